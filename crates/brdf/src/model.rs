@@ -1,0 +1,92 @@
+//! The `Brdf` trait every reflection model implements, in a z-up local frame.
+
+use radiometry::{Rgb, Vec2, Vec3};
+
+/// One importance sample of an incident direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BrdfSample {
+    /// The sampled incident direction (towards the light), local frame.
+    pub wi: Vec3,
+    /// Its density in solid angle; for a delta lobe, the probability of choosing that lobe.
+    pub pdf: f32,
+    /// ρ(wi, wo) · cos θi / pdf.
+    pub weight: Rgb,
+    /// True when `wi` came from a delta (perfectly specular) lobe.
+    pub delta: bool,
+}
+
+/// The properties a model claims for its current parameters; `check` measures them all
+/// and fails only on claimed ones.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Claims {
+    /// Helmholtz reciprocity ρ(wi, wo) = ρ(wo, wi).
+    pub reciprocal: bool,
+    /// Directional albedo ∫ ρ cos θi dωi ≤ 1 for every wo.
+    pub energy_conserving: bool,
+    /// Invariance under a common rotation of wi and wo about the normal.
+    pub isotropic: bool,
+}
+
+impl Claims {
+    /// A physically plausible isotropic model: reciprocal, energy conserving, isotropic.
+    pub const PLAUSIBLE: Claims = Claims { reciprocal: true, energy_conserving: true, isotropic: true };
+}
+
+/// A reflection model. `wi` points towards the light, `wo` towards the viewer; both
+/// point away from the surface and are unit vectors in the local frame (normal = +z).
+pub trait Brdf: Send + Sync + std::fmt::Debug {
+    /// ρ(wi, wo) in 1/sr, without the cosine; zero when either direction is below the
+    /// surface, and zero for delta lobes.
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb;
+
+    /// Solid-angle density with which `sample(wo, ..)` returns `wi` (delta lobes excluded).
+    fn pdf(&self, wi: Vec3, wo: Vec3) -> f32;
+
+    /// Draws `wi` for a given `wo`: `uc` picks a lobe, `u` places the direction.
+    /// `None` when no direction can be produced (e.g. `wo` below the surface).
+    fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample>;
+
+    /// The properties this model, with these parameters, claims.
+    fn claims(&self) -> Claims;
+
+    /// True when the model has a delta lobe (an ideal mirror component).
+    fn has_delta(&self) -> bool {
+        false
+    }
+}
+
+impl<T: Brdf + ?Sized> Brdf for Box<T> {
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
+        (**self).eval(wi, wo)
+    }
+    fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+        (**self).pdf(wi, wo)
+    }
+    fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample> {
+        (**self).sample(wo, uc, u)
+    }
+    fn claims(&self) -> Claims {
+        (**self).claims()
+    }
+    fn has_delta(&self) -> bool {
+        (**self).has_delta()
+    }
+}
+
+/// Mirror reflection of `w` about the normal +z.
+#[inline]
+pub fn reflect_z(w: Vec3) -> Vec3 {
+    Vec3::new(-w.x, -w.y, w.z)
+}
+
+/// Mirror reflection of `w` about the unit vector `n`: 2(w·n)n − w.
+#[inline]
+pub fn reflect(w: Vec3, n: Vec3) -> Vec3 {
+    2.0 * w.dot(n) * n - w
+}
+
+/// True when both directions are strictly above the surface.
+#[inline]
+pub fn same_upper_hemisphere(wi: Vec3, wo: Vec3) -> bool {
+    wi.z > 0.0 && wo.z > 0.0
+}

@@ -1,0 +1,75 @@
+//! Every model by name, with its parameters as data: the one list the CLI, the scene
+//! loader and the web page are generated from.
+
+use crate::params::{ParamError, ParamSpec, Params};
+use crate::Brdf;
+
+/// A named model: its parameter descriptions and how to build it.
+#[derive(Clone, Copy)]
+pub struct ModelSpec {
+    /// The model's name everywhere (`gonio models` lists it).
+    pub name: &'static str,
+    /// One line saying what it is.
+    pub summary: &'static str,
+    /// The paper or text it comes from.
+    pub reference: &'static str,
+    /// Its parameters.
+    pub params: fn() -> Vec<ParamSpec>,
+    /// Builds it from resolved parameters.
+    pub build: fn(&Params) -> Result<Box<dyn Brdf>, ParamError>,
+}
+
+impl std::fmt::Debug for ModelSpec {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ModelSpec").field("name", &self.name).finish()
+    }
+}
+
+impl ModelSpec {
+    /// Resolves `(name, value)` pairs (defaults filled in, ranges checked) and builds the model.
+    pub fn build_with(&self, given: &[(&str, &str)]) -> Result<Box<dyn Brdf>, ParamError> {
+        let params = Params::resolve(self.name, &(self.params)(), given)?;
+        (self.build)(&params)
+    }
+}
+
+/// Every model, in the order `gonio models` lists them.
+pub fn models() -> &'static [ModelSpec] {
+    &[crate::lambert::SPEC]
+}
+
+/// The model called `name`, or an error listing every name.
+pub fn find(name: &str) -> Result<&'static ModelSpec, ParamError> {
+    models().iter().find(|m| m.name == name).ok_or_else(|| ParamError::UnknownModel {
+        name: name.to_string(),
+        valid: models().iter().map(|m| m.name).collect::<Vec<_>>().join(", "),
+    })
+}
+
+/// Builds model `name` with `(parameter, value)` pairs given as text.
+pub fn build(name: &str, given: &[(&str, &str)]) -> Result<Box<dyn Brdf>, ParamError> {
+    find(name)?.build_with(given)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_model_builds_with_defaults_and_names_are_unique() {
+        let mut names = std::collections::HashSet::new();
+        for m in models() {
+            assert!(names.insert(m.name), "duplicate model name {}", m.name);
+            assert!(m.build_with(&[]).is_ok(), "{} fails to build with its defaults", m.name);
+            for p in (m.params)() {
+                assert_eq!(p.parse(&p.default.to_string()).as_ref(), Ok(&p.default), "{}.{}", m.name, p.name);
+            }
+        }
+    }
+
+    #[test]
+    fn unknown_model_lists_the_valid_ones() {
+        let e = build("phongg", &[]).unwrap_err().to_string();
+        assert!(e.contains("lambert"), "{e}");
+    }
+}
