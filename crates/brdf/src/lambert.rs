@@ -66,6 +66,7 @@ pub const SPEC: ModelSpec = ModelSpec {
     reference: "Lambert 1760, Photometria",
     params,
     build,
+    showcase: &[&[("albedo", "1")]],
 };
 
 #[cfg(test)]

@@ -4,6 +4,7 @@
 //! Conventions: `wi` (towards the light) and `wo` (towards the viewer) both point away
 //! from the surface; `eval` returns ρ in 1/sr without the cosine; `pdf` is in solid angle.
 
+pub mod check;
 pub mod combine;
 pub mod lambert;
 pub mod model;

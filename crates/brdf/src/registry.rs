@@ -17,6 +17,9 @@ pub struct ModelSpec {
     pub params: fn() -> Vec<ParamSpec>,
     /// Builds it from resolved parameters.
     pub build: fn(&Params) -> Result<Box<dyn Brdf>, ParamError>,
+    /// Parameter sets worth checking besides the defaults (e.g. where the lecture shows a model
+    /// failing a property); `gonio check --all` runs them too.
+    pub showcase: &'static [&'static [(&'static str, &'static str)]],
 }
 
 impl std::fmt::Debug for ModelSpec {
