@@ -4,12 +4,20 @@
 //! Conventions: `wi` (towards the light) and `wo` (towards the viewer) both point away
 //! from the surface; `eval` returns ρ in 1/sr without the cosine; `pdf` is in solid angle.
 
+pub mod blinn_phong;
 pub mod check;
 pub mod combine;
+pub mod cook_torrance;
+pub mod fresnel;
 pub mod lambert;
+pub mod microfacet;
+pub mod microfacet_brdf;
+pub mod mirror;
 pub mod model;
 pub mod params;
+pub mod phong;
 pub mod registry;
+pub mod ward;
 
 pub use model::{Brdf, BrdfSample, Claims};
 pub use params::{ParamError, ParamKind, ParamSpec, Params, Value};

@@ -38,7 +38,19 @@ impl ModelSpec {
 
 /// Every model, in the order `gonio models` lists them.
 pub fn models() -> &'static [ModelSpec] {
-    &[crate::lambert::SPEC]
+    &[
+        crate::lambert::SPEC,
+        crate::microfacet_brdf::SPEC,
+        crate::microfacet_brdf::GGX_SPEC,
+        crate::microfacet_brdf::BECKMANN_SPEC,
+        crate::cook_torrance::SPEC,
+        crate::mirror::SPEC,
+        crate::phong::SPEC,
+        crate::phong::MODIFIED_SPEC,
+        crate::blinn_phong::SPEC,
+        crate::blinn_phong::MODIFIED_SPEC,
+        crate::ward::SPEC,
+    ]
 }
 
 /// The model called `name`, or an error listing every name.

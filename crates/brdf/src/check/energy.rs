@@ -1,0 +1,106 @@
+//! Energy conservation: the directional albedo a(wo) = ∫ ρ(wi, wo) cos θi dωi ≤ 1.
+//!
+//! a(wo) is estimated with the model's own sampler as the mean of the sample weights
+//! ρ cos θi / pdf (delta lobes contribute through theirs, draws that return `None` contribute 0),
+//! with its standard error. The check passes when every channel at every wo satisfies
+//! mean ≤ 1 + z·se + 1e-5, with z the normal quantile that keeps the family-wise false-alarm rate
+//! of a model whose albedo is exactly 1 at `cfg.alpha` (Šidák over all comparisons of the run),
+//! and 1e-5 the bias f32 rounding of the weights can add (~100 roundings of 2⁻²⁴).
+
+use super::util::{self, sidak};
+use super::{Config, Finding, Property};
+use crate::Brdf;
+use radiometry::{Rgb, Vec3};
+use rand::Rng;
+use statrs::distribution::{ContinuousCDF, Normal};
+
+/// Outgoing polar angles (degrees) at which the albedo is measured, up to grazing.
+pub const ENERGY_THETAS: [f64; 11] = [0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 85.0, 89.0];
+/// Outgoing azimuths (radians): two, a quarter turn apart, for anisotropic lobes.
+pub const ENERGY_PHIS: [f64; 2] = [0.3, 0.3 + std::f64::consts::FRAC_PI_2];
+/// Samples per albedo estimate.
+pub const ALBEDO_SAMPLES: usize = 16384;
+/// Bias f32 rounding can add to a mean of weights.
+const F32_MARGIN: f64 = 1e-5;
+
+/// Directional albedo at `wo` with its standard error, per channel, in f64.
+pub fn albedo_f64(brdf: &dyn Brdf, wo: Vec3, samples: usize, seed: u64) -> ([f64; 3], [f64; 3]) {
+    let mut rng = util::stream(seed, 0xA1BE);
+    let (mut sum, mut sum2) = ([0f64; 3], [0f64; 3]);
+    for _ in 0..samples {
+        let (uc, u) = (rng.gen::<f32>(), util::u2(&mut rng));
+        let Some(s) = brdf.sample(wo, uc, u) else { continue };
+        if !s.weight.is_finite() {
+            // Non-finite weights are the non-negativity check's finding; keep this one readable.
+            continue;
+        }
+        for c in 0..3 {
+            let w = s.weight.0[c] as f64;
+            sum[c] += w;
+            sum2[c] += w * w;
+        }
+    }
+    let n = samples.max(1) as f64;
+    let mean = sum.map(|s| s / n);
+    let se = std::array::from_fn(|c| {
+        let var = (sum2[c] / n - mean[c] * mean[c]).max(0.0) * n / (n - 1.0).max(1.0);
+        (var / n).sqrt()
+    });
+    (mean, se)
+}
+
+/// Directional albedo ∫ ρ cos θi dωi at `wo` estimated from `samples` draws of the model's
+/// sampler: (mean, standard error) per channel.
+pub fn albedo(brdf: &dyn Brdf, wo: Vec3, samples: usize, seed: u64) -> (Rgb, Rgb) {
+    let (m, se) = albedo_f64(brdf, wo, samples, seed);
+    (Rgb(m.map(|v| v as f32)), Rgb(se.map(|v| v as f32)))
+}
+
+/// The energy check: max directional albedo over the θo × φo grid.
+pub fn energy(brdf: &dyn Brdf, cfg: &Config) -> Finding {
+    let comparisons = ENERGY_THETAS.len() * ENERGY_PHIS.len() * 3 * cfg.chi2_tests.max(1);
+    let a = sidak(cfg.alpha, comparisons);
+    let z = Normal::new(0.0, 1.0).map(|n| n.inverse_cdf(1.0 - a)).unwrap_or(4.0);
+    let mut worst = (f64::NEG_INFINITY, 0.0, 0usize, 0.0, 0.0); // mean, se, channel, θ, φ
+    let mut excess: Option<(f64, f64, usize, f64, f64)> = None;
+    let mut k = 0u64;
+    for &theta in &ENERGY_THETAS {
+        for &phi in &ENERGY_PHIS {
+            let wo = util::direction(theta.to_radians().cos(), phi);
+            let (mean, se) = albedo_f64(brdf, wo, ALBEDO_SAMPLES, cfg.seed.wrapping_add(k));
+            k += 1;
+            for c in 0..3 {
+                if mean[c] > worst.0 {
+                    worst = (mean[c], se[c], c, theta, phi);
+                }
+                let over = mean[c] - (1.0 + z * se[c] + F32_MARGIN);
+                if over > 0.0 && !matches!(excess, Some(e) if over <= e.0 - (1.0 + z * e.1 + F32_MARGIN)) {
+                    excess = Some((mean[c], se[c], c, theta, phi));
+                }
+            }
+        }
+    }
+    let ch = |c: usize| ["r", "g", "b"][c];
+    let (m, se, c, t, p) = worst;
+    let mut detail = format!(
+        "max albedo {m:.4} ± {se:.1e} (channel {}) at θo = {t}°, φo = {:.0}°; limit 1 + {z:.2}σ + {F32_MARGIN:.0e}; \
+         {} wo × {ALBEDO_SAMPLES} samples",
+        ch(c),
+        p.to_degrees(),
+        ENERGY_THETAS.len() * ENERGY_PHIS.len()
+    );
+    if let Some((m, se, c, t, p)) = excess {
+        detail = format!(
+            "albedo {m:.4} ± {se:.1e} (channel {}) at θo = {t}°, φo = {:.0}° exceeds 1; {detail}",
+            ch(c),
+            p.to_degrees()
+        );
+    }
+    Finding {
+        property: Property::Energy,
+        claimed: brdf.claims().energy_conserving,
+        passed: excess.is_none(),
+        value: m,
+        detail,
+    }
+}
