@@ -1,4 +1,7 @@
-//! Energy conservation: the directional albedo a(wo) = ∫ ρ(wi, wo) cos θi dωi ≤ 1.
+//! Energy conservation: the directional albedo a(wo) = ∫ ρ(wi, wo) cos θi dωi ≤ 1, and the
+//! fraction of light arriving from a direction that is reflected, r(wi) = ∫ ρ(wi, wo) cos θo dωo ≤ 1.
+//! The two agree for a reciprocal model; for the lecture's raw Phong (ρ ∝ 1/cos θi) only r(wi)
+//! shows the energy gained at grazing incidence, so both are measured.
 //!
 //! a(wo) is estimated with the model's own sampler as the mean of the sample weights
 //! ρ cos θi / pdf (delta lobes contribute through theirs, draws that return `None` contribute 0),
@@ -15,7 +18,7 @@ use rand::Rng;
 use statrs::distribution::{ContinuousCDF, Normal};
 
 /// Outgoing polar angles (degrees) at which the albedo is measured, up to grazing.
-pub const ENERGY_THETAS: [f64; 11] = [0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 85.0, 89.0];
+pub const ENERGY_THETAS: [f64; 13] = [0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 85.0, 89.0, 89.9, 89.99];
 /// Outgoing azimuths (radians): two, a quarter turn apart, for anisotropic lobes.
 pub const ENERGY_PHIS: [f64; 2] = [0.3, 0.3 + std::f64::consts::FRAC_PI_2];
 /// Samples per albedo estimate.
@@ -23,13 +26,33 @@ pub const ALBEDO_SAMPLES: usize = 16384;
 /// Bias f32 rounding can add to a mean of weights.
 const F32_MARGIN: f64 = 1e-5;
 
+/// Which hemispherical integral of ρ an albedo estimate is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Integral {
+    /// a(wo) = ∫ ρ(wi, wo) cos θi dωi: light reaching the viewer at `wo` from a uniform sky.
+    OverIncident,
+    /// r(wi) = ∫ ρ(wi, wo) cos θo dωo: the fraction of a beam from `wi` that is reflected.
+    OverOutgoing,
+}
+
 /// Directional albedo at `wo` with its standard error, per channel, in f64.
 pub fn albedo_f64(brdf: &dyn Brdf, wo: Vec3, samples: usize, seed: u64) -> ([f64; 3], [f64; 3]) {
+    albedo_integral(brdf, Integral::OverIncident, wo, samples, seed)
+}
+
+/// The hemispherical integral `which` of ρ with the other direction fixed at `w`, with its
+/// standard error, per channel. Over outgoing directions the model's sampler, called with `w`,
+/// proposes the directions and each is weighted by ρ(w, wo) cos θo / pdf: unbiased wherever the
+/// sampler covers ρ's support, whether or not the model is reciprocal.
+pub fn albedo_integral(brdf: &dyn Brdf, which: Integral, w: Vec3, samples: usize, seed: u64) -> ([f64; 3], [f64; 3]) {
     let mut rng = util::stream(seed, 0xA1BE);
     let (mut sum, mut sum2) = ([0f64; 3], [0f64; 3]);
     for _ in 0..samples {
         let (uc, u) = (rng.gen::<f32>(), util::u2(&mut rng));
-        let Some(s) = brdf.sample(wo, uc, u) else { continue };
+        let Some(mut s) = brdf.sample(w, uc, u) else { continue };
+        if which == Integral::OverOutgoing && !s.delta {
+            s.weight = if s.pdf > 0.0 { brdf.eval(w, s.wi) * (s.wi.z / s.pdf) } else { Rgb::ZERO };
+        }
         if !s.weight.is_finite() {
             // Non-finite weights are the non-negativity check's finding; keep this one readable.
             continue;
@@ -56,46 +79,50 @@ pub fn albedo(brdf: &dyn Brdf, wo: Vec3, samples: usize, seed: u64) -> (Rgb, Rgb
     (Rgb(m.map(|v| v as f32)), Rgb(se.map(|v| v as f32)))
 }
 
-/// The energy check: max directional albedo over the θo × φo grid.
+/// The energy check: the largest of a(wo) and r(wi) over the θ × φ grid.
 pub fn energy(brdf: &dyn Brdf, cfg: &Config) -> Finding {
-    let comparisons = ENERGY_THETAS.len() * ENERGY_PHIS.len() * 3 * cfg.chi2_tests.max(1);
+    let integrals = [Integral::OverIncident, Integral::OverOutgoing];
+    let comparisons = integrals.len() * ENERGY_THETAS.len() * ENERGY_PHIS.len() * 3 * cfg.chi2_tests.max(1);
     let a = sidak(cfg.alpha, comparisons);
     let z = Normal::new(0.0, 1.0).map(|n| n.inverse_cdf(1.0 - a)).unwrap_or(4.0);
-    let mut worst = (f64::NEG_INFINITY, 0.0, 0usize, 0.0, 0.0); // mean, se, channel, θ, φ
-    let mut excess: Option<(f64, f64, usize, f64, f64)> = None;
+    // mean, se, channel, θ, φ, integral
+    let mut worst = (f64::NEG_INFINITY, 0.0, 0usize, 0.0, 0.0, Integral::OverIncident);
+    let mut excess: Option<(f64, f64, usize, f64, f64, Integral)> = None;
     let mut k = 0u64;
-    for &theta in &ENERGY_THETAS {
-        for &phi in &ENERGY_PHIS {
-            let wo = util::direction(theta.to_radians().cos(), phi);
-            let (mean, se) = albedo_f64(brdf, wo, ALBEDO_SAMPLES, cfg.seed.wrapping_add(k));
-            k += 1;
-            for c in 0..3 {
-                if mean[c] > worst.0 {
-                    worst = (mean[c], se[c], c, theta, phi);
-                }
-                let over = mean[c] - (1.0 + z * se[c] + F32_MARGIN);
-                if over > 0.0 && !matches!(excess, Some(e) if over <= e.0 - (1.0 + z * e.1 + F32_MARGIN)) {
-                    excess = Some((mean[c], se[c], c, theta, phi));
+    for which in integrals {
+        for &theta in &ENERGY_THETAS {
+            for &phi in &ENERGY_PHIS {
+                let w = util::direction(theta.to_radians().cos(), phi);
+                let (mean, se) = albedo_integral(brdf, which, w, ALBEDO_SAMPLES, cfg.seed.wrapping_add(k));
+                k += 1;
+                for c in 0..3 {
+                    if mean[c] > worst.0 {
+                        worst = (mean[c], se[c], c, theta, phi, which);
+                    }
+                    let over = mean[c] - (1.0 + z * se[c] + F32_MARGIN);
+                    if over > 0.0 && !matches!(excess, Some(e) if over <= e.0 - (1.0 + z * e.1 + F32_MARGIN)) {
+                        excess = Some((mean[c], se[c], c, theta, phi, which));
+                    }
                 }
             }
         }
     }
     let ch = |c: usize| ["r", "g", "b"][c];
-    let (m, se, c, t, p) = worst;
-    let mut detail = format!(
-        "max albedo {m:.4} ± {se:.1e} (channel {}) at θo = {t}°, φo = {:.0}°; limit 1 + {z:.2}σ + {F32_MARGIN:.0e}; \
-         {} wo × {ALBEDO_SAMPLES} samples",
-        ch(c),
-        p.to_degrees(),
+    let at = |which: Integral, t: f64, p: f64| match which {
+        Integral::OverIncident => format!("albedo ∫ρ cosθi dωi at θo = {t}°, φo = {:.0}°", p.to_degrees()),
+        Integral::OverOutgoing => format!("reflected fraction ∫ρ cosθo dωo at θi = {t}°, φi = {:.0}°", p.to_degrees()),
+    };
+    let (m, se, c, t, p, which) = worst;
+    let limit = format!(
+        "limit 1 + {z:.2}σ + {F32_MARGIN:.0e}; 2 × {} directions × {ALBEDO_SAMPLES} samples",
         ENERGY_THETAS.len() * ENERGY_PHIS.len()
     );
-    if let Some((m, se, c, t, p)) = excess {
-        detail = format!(
-            "albedo {m:.4} ± {se:.1e} (channel {}) at θo = {t}°, φo = {:.0}° exceeds 1; {detail}",
-            ch(c),
-            p.to_degrees()
-        );
-    }
+    let detail = match excess {
+        Some((m, se, c, t, p, which)) => {
+            format!("{} = {m:.4} ± {se:.1e} (channel {}) exceeds 1; {limit}", at(which, t, p), ch(c))
+        }
+        None => format!("max {} = {m:.4} ± {se:.1e} (channel {}); {limit}", at(which, t, p), ch(c)),
+    };
     Finding {
         property: Property::Energy,
         claimed: brdf.claims().energy_conserving,

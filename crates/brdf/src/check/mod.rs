@@ -26,7 +26,7 @@ mod util;
 pub use chi2::{
     chi2_test, chi_square, pooled_statistic, Chi2Cell, Chi2Outcome, CHI2_SAMPLES, CHI2_THETAS, MIN_EXPECTED,
 };
-pub use energy::{albedo, albedo_f64, energy, ALBEDO_SAMPLES, ENERGY_PHIS, ENERGY_THETAS};
+pub use energy::{albedo, albedo_f64, albedo_integral, energy, Integral, ALBEDO_SAMPLES, ENERGY_PHIS, ENERGY_THETAS};
 pub use sampling::{non_negative, sampling};
 pub use symmetry::{isotropy, reciprocity};
 
