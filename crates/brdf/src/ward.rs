@@ -173,7 +173,6 @@ pub const SPEC: ModelSpec = ModelSpec {
         &[("ks", "0.8"), ("alpha_u", "0.05"), ("alpha_v", "0.3")],
         // Rough and bright: the 1/√(cos θi cos θo) factor lifts the albedo past 1 at grazing.
         &[("ks", "1"), ("alpha", "0.5")],
-        &[("ks", "1"), ("alpha", "0.5")],
         &[("ks", "0.1"), ("alpha", "0.02"), ("diffuse", "0.7")],
     ],
 };
