@@ -17,6 +17,7 @@ pub mod model;
 pub mod params;
 pub mod phong;
 pub mod registry;
+pub mod roughness;
 pub mod ward;
 
 pub use model::{Brdf, BrdfSample, Claims};

@@ -18,11 +18,10 @@ use crate::microfacet::{Distribution, Ndf, Shadowing};
 use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSpec, Params};
 use crate::registry::ModelSpec;
+use crate::roughness;
 use radiometry::{Rgb, Vec2, Vec3};
 
-/// Smallest accepted roughness: D peaks at 1/(πα²), still well inside f32 and resolvable by
-/// f32 half-vectors at 1e-3; a smoother surface is better rendered as a mirror.
-pub const ALPHA_MIN: f64 = 0.001;
+pub use crate::roughness::ALPHA_MIN;
 
 /// A microfacet BRDF: a distribution of normals, a shadowing term and a Fresnel term.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -115,17 +114,13 @@ fn params_with(with_distribution: bool) -> Vec<ParamSpec> {
     if with_distribution {
         v.push(ParamSpec::choice("distribution", &["beckmann", "ggx"], "ggx", "distribution of facet normals D"));
     }
-    v.extend([
-        ParamSpec::float("alpha", ALPHA_MIN, 1.0, 0.2, "roughness α (GGX: α; Beckmann: √2 × RMS slope)"),
-        ParamSpec::float("alpha_u", 0.0, 1.0, 0.0, "roughness along the tangent; 0 means alpha"),
-        ParamSpec::float("alpha_v", 0.0, 1.0, 0.0, "roughness along the bitangent; 0 means alpha"),
-        ParamSpec::choice(
-            "shadowing",
-            &["smith-separable", "smith-correlated"],
-            "smith-correlated",
-            "Smith shadowing-masking: G1(wi)G1(wo) or height-correlated 1/(1+Λ(wi)+Λ(wo))",
-        ),
-    ]);
+    v.extend(roughness::params(0.2, "roughness α (GGX: α; Beckmann: √2 × RMS slope)"));
+    v.push(ParamSpec::choice(
+        "shadowing",
+        &["smith-separable", "smith-correlated"],
+        "smith-correlated",
+        "Smith shadowing-masking: G1(wi)G1(wo) or height-correlated 1/(1+Λ(wi)+Λ(wo))",
+    ));
     // A lone microfacet lobe is a metal: gold shows what the Fresnel term does, where a
     // dielectric would reflect 4% and look black without a diffuse lobe under it.
     v.extend(fresnel::params("conductor"));
@@ -141,23 +136,9 @@ fn preset_params() -> Vec<ParamSpec> {
     params_with(false)
 }
 
-/// One of the anisotropic roughnesses: 0 falls back to `alpha`, anything else must be ≥ ALPHA_MIN.
-fn roughness(p: &Params, name: &str) -> Result<f32, ParamError> {
-    let v = p.float(name);
-    if v == 0.0 {
-        return Ok(p.float("alpha"));
-    }
-    if (v as f64) < ALPHA_MIN {
-        return Err(ParamError::Inconsistent(format!(
-            "parameter '{name}': {v} is neither 0 (use alpha) nor at least {ALPHA_MIN}"
-        )));
-    }
-    Ok(v)
-}
-
 /// Builds the model with distribution `name`.
 fn build_named(p: &Params, name: &str) -> Result<Box<dyn Brdf>, ParamError> {
-    let (ax, ay) = (roughness(p, "alpha_u")?, roughness(p, "alpha_v")?);
+    let (ax, ay) = roughness::from_params(p)?;
     let distribution = Distribution::named(name, ax, ay).expect("distribution choice list matches Distribution::named");
     let shadowing = match p.choice("shadowing") {
         "smith-separable" => Shadowing::Separable,

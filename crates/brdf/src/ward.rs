@@ -23,12 +23,12 @@ use crate::combine;
 use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSpec, Params};
 use crate::registry::ModelSpec;
+use crate::roughness;
 use radiometry::{Rgb, Vec2, Vec3};
 use std::f32::consts::{PI, TAU};
 
-/// Smallest accepted roughness: the peak 1/(4π α_x α_y) stays far inside f32 and f32 half
-/// vectors still resolve the lobe.
-pub const ALPHA_MIN: f64 = 0.001;
+// The smallest roughness, `roughness::ALPHA_MIN`, keeps the peak 1/(4π α_x α_y) far inside f32.
+pub use crate::roughness::ALPHA_MIN;
 
 /// Exponents beyond this give exp(−x) < 2⁻¹¹⁵, below anything visible; cutting there keeps
 /// exp normal in f32 and keeps cos θh ≥ 1/√(1 + 80) away from the 1/cos³θh pole (α ≤ 1).
@@ -132,31 +132,15 @@ impl Brdf for Ward {
 }
 
 fn params() -> Vec<ParamSpec> {
-    vec![
-        ParamSpec::rgb("ks", 0.0, 1.0, 0.2, "specular reflectance ρ_s"),
-        ParamSpec::float("alpha", ALPHA_MIN, 1.0, 0.1, "roughness α: RMS slope of the surface"),
-        ParamSpec::float("alpha_u", 0.0, 1.0, 0.0, "roughness α_x along the tangent; 0 means alpha"),
-        ParamSpec::float("alpha_v", 0.0, 1.0, 0.0, "roughness α_y along the bitangent; 0 means alpha"),
-        combine::diffuse_param(),
-    ]
-}
-
-/// One of the anisotropic roughnesses: 0 falls back to `alpha`, anything else must be ≥ ALPHA_MIN.
-fn roughness(p: &Params, name: &str) -> Result<f32, ParamError> {
-    let v = p.float(name);
-    if v == 0.0 {
-        return Ok(p.float("alpha"));
-    }
-    if (v as f64) < ALPHA_MIN {
-        return Err(ParamError::Inconsistent(format!(
-            "parameter '{name}': {v} is neither 0 (use alpha) nor at least {ALPHA_MIN}"
-        )));
-    }
-    Ok(v)
+    let mut v = vec![ParamSpec::rgb("ks", 0.0, 1.0, 0.2, "specular reflectance ρ_s")];
+    v.extend(roughness::params(0.1, "roughness α: RMS slope of the surface"));
+    v.push(combine::diffuse_param());
+    v
 }
 
 fn build(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
-    let lobe = Ward { ks: p.rgb("ks"), alpha_x: roughness(p, "alpha_u")?, alpha_y: roughness(p, "alpha_v")? };
+    let (ax, ay) = roughness::from_params(p)?;
+    let lobe = Ward { ks: p.rgb("ks"), alpha_x: ax, alpha_y: ay };
     Ok(combine::with_diffuse(p, Box::new(lobe), lobe.nominal_albedo()))
 }
 
