@@ -16,7 +16,7 @@
 use crate::combine;
 use crate::fresnel::{self, Fresnel};
 use crate::microfacet::{Beckmann, Ndf};
-use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims};
+use crate::model::{reflect_about_half_vector, same_upper_hemisphere, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSpec, Params};
 use crate::registry::ModelSpec;
 use radiometry::{Rgb, Vec2, Vec3};
@@ -92,21 +92,7 @@ impl Brdf for CookTorrance {
         if wo.z <= 0.0 {
             return None;
         }
-        let h = self.beckmann.sample_normal(u);
-        let v_h = wo.dot(h);
-        if v_h <= 0.0 {
-            return None;
-        }
-        let wi = (2.0 * v_h * h - wo).normalize();
-        if wi.z <= 0.0 {
-            return None;
-        }
-        let pdf = self.pdf(wi, wo);
-        if !(pdf > 0.0 && pdf.is_finite()) {
-            return None;
-        }
-        let weight = self.eval(wi, wo) * (wi.z / pdf);
-        weight.is_finite().then_some(BrdfSample { wi, pdf, weight, delta: false })
+        reflect_about_half_vector(self, wo, self.beckmann.sample_normal(u))
     }
 
     fn claims(&self) -> Claims {

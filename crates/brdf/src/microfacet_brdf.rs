@@ -15,7 +15,7 @@
 use crate::combine;
 use crate::fresnel::{self, Fresnel};
 use crate::microfacet::{Distribution, Ndf, Shadowing};
-use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims};
+use crate::model::{reflect_about_half_vector, same_upper_hemisphere, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSpec, Params};
 use crate::registry::ModelSpec;
 use crate::roughness;
@@ -85,22 +85,7 @@ impl Brdf for MicrofacetBrdf {
         if wo.z <= 0.0 {
             return None;
         }
-        let h = self.distribution.sample_visible(wo, u);
-        let wo_h = wo.dot(h);
-        if wo_h <= 0.0 {
-            return None;
-        }
-        let wi = (2.0 * wo_h * h - wo).normalize();
-        if wi.z <= 0.0 {
-            return None;
-        }
-        // pdf and weight from the returned wi, so that they agree with pdf() and eval() exactly.
-        let pdf = self.pdf(wi, wo);
-        if !(pdf > 0.0 && pdf.is_finite()) {
-            return None;
-        }
-        let weight = self.eval(wi, wo) * (wi.z / pdf);
-        weight.is_finite().then_some(BrdfSample { wi, pdf, weight, delta: false })
+        reflect_about_half_vector(self, wo, self.distribution.sample_visible(wo, u))
     }
 
     fn claims(&self) -> Claims {

@@ -20,7 +20,7 @@
 //! B. Walter, "Notes on the Ward BRDF", Cornell PCG technical report PCG-05-06, 2005.
 
 use crate::combine;
-use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims};
+use crate::model::{reflect_about_half_vector, same_upper_hemisphere, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSpec, Params};
 use crate::registry::ModelSpec;
 use crate::roughness;
@@ -112,18 +112,7 @@ impl Brdf for Ward {
         let (sp, cp) = (TAU * u.y).sin_cos();
         let r = (-u.x.ln()).sqrt();
         let h = Vec3::new(self.alpha_x * r * cp, self.alpha_y * r * sp, 1.0).normalize_or_zero();
-        let d = wo.dot(h);
-        if d <= 0.0 {
-            return None;
-        }
-        let wi = 2.0 * d * h - wo;
-        // pdf from the returned wi by the same code as pdf(), so that the two agree exactly.
-        let pdf = self.pdf(wi, wo);
-        if !(pdf > 0.0 && pdf.is_finite()) {
-            return None;
-        }
-        let weight = self.eval(wi, wo) * (wi.z / pdf);
-        weight.is_finite().then_some(BrdfSample { wi, pdf, weight, delta: false })
+        reflect_about_half_vector(self, wo, h)
     }
 
     fn claims(&self) -> Claims {
