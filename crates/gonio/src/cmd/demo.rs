@@ -7,20 +7,13 @@ use crate::modelarg::ModelArg;
 use crate::plot::{albedo, polar};
 use anyhow::{Context, Result};
 
-/// The lecture's models, in the order it introduces them; those not registered are skipped.
+/// The lecture's models, in the order it introduces them.
 pub const LECTURE_MODELS: [&str; 7] =
     ["lambert", "phong", "modified-phong", "blinn-phong", "modified-blinn-phong", "ward", "cook-torrance"];
 
 /// Runs `gonio demo`; `Ok(false)` when a claimed property failed.
 pub fn run(args: &DemoArgs) -> Result<bool> {
-    let mut models: Vec<ModelArg> = LECTURE_MODELS
-        .iter()
-        .filter(|n| brdf::find(n).is_ok())
-        .map(|n| ModelArg::new(n, Vec::new()))
-        .collect::<Result<_>>()?;
-    if models.is_empty() {
-        models = brdf::models().iter().map(|m| ModelArg::new(m.name, Vec::new())).collect::<Result<_>>()?;
-    }
+    let models: Vec<ModelArg> = LECTURE_MODELS.iter().map(|n| ModelArg::new(n, Vec::new())).collect::<Result<_>>()?;
     std::fs::create_dir_all(&args.out_dir).with_context(|| format!("cannot create '{}'", args.out_dir.display()))?;
     let s = series(&models)?;
     let out =
