@@ -1,0 +1,74 @@
+//! Integrators: estimators of the radiance arriving along a camera ray.
+
+pub mod direct;
+pub mod path;
+
+use crate::ray::Ray;
+use crate::sampler::Sampler;
+use crate::scene::Scene;
+use radiometry::Rgb;
+
+/// Which estimator to run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Integrator {
+    /// Unidirectional path tracing (Mitsuba's `path`). `max_depth` counts path vertices
+    /// (1: emitters seen directly, 2: direct lighting; `u32::MAX`: unbounded); Russian
+    /// roulette starts once `rr_depth` vertices exist.
+    Path {
+        /// The longest path, in vertices.
+        max_depth: u32,
+        /// The depth from which Russian roulette may end paths.
+        rr_depth: u32,
+    },
+    /// Direct lighting only: emitters seen directly plus one light and one BRDF sample
+    /// combined by MIS at the first surface (Mitsuba's `direct` with one sample each).
+    Direct,
+}
+
+impl Default for Integrator {
+    /// Mitsuba's defaults for `path`: unbounded depth, roulette from depth 5.
+    fn default() -> Self {
+        Integrator::Path { max_depth: u32::MAX, rr_depth: 5 }
+    }
+}
+
+impl Integrator {
+    /// The radiance estimate along `ray`.
+    #[inline]
+    pub fn li(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Rgb {
+        match *self {
+            Integrator::Path { max_depth, rr_depth } => path::li(scene, ray, sampler, max_depth, rr_depth),
+            Integrator::Direct => direct::li(scene, ray, sampler),
+        }
+    }
+}
+
+/// The power heuristic with β = 2 (Veach 1997, §9.2.4): weight of a strategy of density `a`
+/// against one of density `b`, one sample each.
+#[inline]
+pub fn power_heuristic(a: f32, b: f32) -> f32 {
+    if a.is_nan() || a <= 0.0 {
+        return 0.0;
+    }
+    if a.is_infinite() {
+        return if b.is_infinite() { 0.5 } else { 1.0 };
+    }
+    // As a ratio, so that tiny or huge densities neither underflow nor overflow.
+    let r = if b > 0.0 { b / a } else { 0.0 };
+    1.0 / (1.0 + r * r)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn power_heuristic_weights_sum_to_one() {
+        for (a, b) in [(1.0, 1.0), (0.3, 7.0), (1e-30, 1e-30), (5.0, 0.0), (1e30, 1e-30)] {
+            assert!((power_heuristic(a, b) + power_heuristic(b, a) - 1.0).abs() < 1e-6);
+        }
+        assert_eq!(power_heuristic(0.0, 0.0), 0.0);
+        assert!((power_heuristic(1.0, 3.0) - 0.1).abs() < 1e-7);
+        assert_eq!(power_heuristic(f32::INFINITY, 1.0), 1.0);
+    }
+}

@@ -1,0 +1,114 @@
+//! Unidirectional path tracing with next-event estimation and multiple importance sampling
+//! (Veach 1997, ch. 9; the loop follows Mitsuba 3's `path` integrator so that depths and
+//! Russian roulette mean the same). At each surface vertex: one light sample (shadow ray)
+//! and one BRDF sample, each weighted by the power heuristic against the other; emission
+//! found by the BRDF sample gets its weight at the next vertex. Delta lights and delta
+//! lobes take weight 1, since no other strategy can produce them.
+
+use crate::integrator::power_heuristic;
+use crate::light::RefPoint;
+use crate::ray::{spawn_ray, Ray};
+use crate::sampler::Sampler;
+use crate::scene::Scene;
+use radiometry::Rgb;
+
+/// What the previous vertex's BRDF sample needs for the MIS weight of emission found next.
+struct Previous {
+    r: RefPoint,
+    pdf: f32,
+    delta: bool,
+}
+
+/// The radiance estimate along `ray` with paths of at most `max_depth` vertices and
+/// Russian roulette from `rr_depth` on.
+pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler, max_depth: u32, rr_depth: u32) -> Rgb {
+    let mut result = Rgb::ZERO;
+    let mut beta = Rgb::ONE;
+    let mut depth = 0u32;
+    // None for the camera ray: emission seen directly has weight 1.
+    let mut prev: Option<Previous> = None;
+    if max_depth == 0 {
+        return result;
+    }
+    loop {
+        let Some(si) = scene.intersect(&ray) else {
+            if let Some((index, env)) = scene.environment() {
+                let le = env.environment_radiance(ray.d);
+                let w = match &prev {
+                    Some(pv) if !pv.delta => power_heuristic(pv.pdf, scene.light_pdf(index, &pv.r, ray.d, None)),
+                    _ => 1.0,
+                };
+                result += beta * le * w;
+            }
+            break;
+        };
+        let wo_world = -ray.d;
+        if let Some((index, light)) = scene.area_light(si.shape) {
+            let le = light.emitted(si.ng, wo_world);
+            if !le.is_black() {
+                let w = match &prev {
+                    Some(pv) if !pv.delta => {
+                        power_heuristic(pv.pdf, scene.light_pdf(index, &pv.r, ray.d, Some((si.p, si.ng))))
+                    }
+                    _ => 1.0,
+                };
+                result += beta * le * w;
+            }
+        }
+        if depth.saturating_add(1) >= max_depth {
+            break;
+        }
+        let brdf = scene.brdf(si.shape);
+        let wo = si.frame.to_local(wo_world);
+        // Surfaces reflect from their front only (one-sided, like Mitsuba's BSDFs), and a
+        // direction is on the front only if both normals agree.
+        let side = wo_world.dot(si.ng);
+        if wo.z <= 0.0 || side <= 0.0 {
+            break;
+        }
+        let r = RefPoint { p: si.p, n: Some(si.frame.n) };
+
+        // Next-event estimation.
+        let (uc, uc2, u) = (sampler.next_1d(), sampler.next_1d(), sampler.next_2d());
+        if let Some(ls) = scene.sample_light(&r, uc, uc2, u) {
+            let wi = si.frame.to_local(ls.wi);
+            if wi.z > 0.0 && ls.wi.dot(si.ng) > 0.0 {
+                let f = brdf.eval(wi, wo);
+                if !f.is_black() && scene.unoccluded(si.p, si.ng, &ls) {
+                    let w = if ls.delta { 1.0 } else { power_heuristic(ls.pdf, brdf.pdf(wi, wo)) };
+                    result += beta * f * ls.li * (wi.z * w / ls.pdf);
+                }
+            }
+        }
+
+        // BRDF sampling: the direction the path continues in.
+        let Some(bs) = brdf.sample(wo, sampler.next_1d(), sampler.next_2d()) else { break };
+        let wi_world = si.frame.to_world(bs.wi);
+        if bs.wi.z <= 0.0 || wi_world.dot(si.ng) <= 0.0 || !bs.weight.is_finite() {
+            break;
+        }
+        beta = beta * bs.weight;
+        prev = Some(Previous { r, pdf: bs.pdf, delta: bs.delta });
+        ray = spawn_ray(si.p, si.ng, wi_world);
+        depth += 1;
+
+        // Russian roulette: survive with q = min(max channel of β, 0.95), reweight by 1/q
+        // (η = 1: these models only reflect).
+        let q = beta.max_channel().min(0.95);
+        if depth >= rr_depth {
+            if sampler.next_1d() >= q {
+                break;
+            }
+            beta = beta / q;
+        }
+        if beta.max_channel() <= 0.0 {
+            break;
+        }
+    }
+    // A path can only go non-finite through a model bug; drop it rather than poison a pixel.
+    if result.is_finite() {
+        result
+    } else {
+        Rgb::ZERO
+    }
+}

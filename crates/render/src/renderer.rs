@@ -1,0 +1,135 @@
+//! Rendering an image: per-pixel deterministic sample streams, rows in parallel, passes
+//! of growing sample counts so that a cancelled render still holds a whole (noisier) image.
+
+use crate::image::Image;
+use crate::integrator::Integrator;
+use crate::sampler::Sampler;
+use crate::scene::Scene;
+use glam::Vec2;
+use radiometry::Rgb;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
+
+/// How to render.
+#[derive(Clone, Debug)]
+pub struct RenderOptions {
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Seed of every random stream.
+    pub seed: u64,
+    /// Worker threads; 0 uses every core.
+    pub threads: usize,
+    /// The estimator.
+    pub integrator: Integrator,
+    /// Set to true (from anywhere) to stop early; the image then holds the samples taken.
+    pub cancel: Option<Arc<AtomicBool>>,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions { spp: 16, seed: 0, threads: 0, integrator: Integrator::default(), cancel: None }
+    }
+}
+
+/// Progress: camera samples taken so far out of the total.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Progress {
+    /// Samples taken.
+    pub done: u64,
+    /// Samples the render will take when not cancelled.
+    pub total: u64,
+}
+
+/// The passes' sample counts: 1, 1, 2, 4, … (doubling, at most 64), summing to `spp`.
+/// Depends on `spp` only, so the image does not depend on how the work is scheduled.
+fn passes(spp: u32) -> Vec<(u32, u32)> {
+    let mut out = Vec::new();
+    let (mut start, mut size) = (0u32, 1u32);
+    while start < spp {
+        let n = size.min(spp - start);
+        out.push((start, start + n));
+        start += n;
+        if out.len() > 1 {
+            size = (size * 2).min(64);
+        }
+    }
+    out
+}
+
+/// Renders `scene`: each pixel is the mean of `spp` samples placed uniformly over its area
+/// (a box filter), sample `s` of pixel `p` drawn from the stream (seed, p, s). `progress`
+/// is called from worker threads after each row of each pass.
+pub fn render(scene: &Scene, opts: &RenderOptions, progress: impl Fn(Progress) + Sync) -> Image {
+    let (w, h) = (scene.camera.width as usize, scene.camera.height as usize);
+    if w == 0 || h == 0 {
+        return Image::new(w as u32, h as u32);
+    }
+    let mut sums = vec![[0.0f64; 3]; w * h];
+    let mut row_spp = vec![0u32; h];
+    let total = w as u64 * h as u64 * opts.spp as u64;
+    let done = AtomicU64::new(0);
+    let cancelled = || opts.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed));
+    let work = |sums: &mut Vec<[f64; 3]>, row_spp: &mut Vec<u32>| {
+        for (s0, s1) in passes(opts.spp) {
+            sums.par_chunks_mut(w).zip(row_spp.par_iter_mut()).enumerate().for_each(|(y, (row, count))| {
+                if cancelled() {
+                    return;
+                }
+                for (x, acc) in row.iter_mut().enumerate() {
+                    let pixel = (y * w + x) as u64;
+                    for s in s0..s1 {
+                        let mut sampler = Sampler::new(opts.seed, pixel, s as u64);
+                        let film = Vec2::new(x as f32, y as f32) + sampler.next_2d();
+                        let l = opts.integrator.li(scene, scene.camera.ray(film), &mut sampler);
+                        for (a, c) in acc.iter_mut().zip(l.0) {
+                            *a += c as f64;
+                        }
+                    }
+                }
+                *count = s1;
+                let d = done.fetch_add(w as u64 * (s1 - s0) as u64, Ordering::Relaxed) + w as u64 * (s1 - s0) as u64;
+                progress(Progress { done: d, total });
+            });
+            if cancelled() {
+                break;
+            }
+        }
+    };
+    match rayon::ThreadPoolBuilder::new().num_threads(opts.threads).build() {
+        Ok(pool) => pool.install(|| work(&mut sums, &mut row_spp)),
+        // No pool could be made (e.g. no threads allowed): run on the global one.
+        Err(_) => work(&mut sums, &mut row_spp),
+    }
+    let mut img = Image::new(w as u32, h as u32);
+    for (y, &n) in row_spp.iter().enumerate() {
+        if n == 0 {
+            continue;
+        }
+        for x in 0..w {
+            let s = sums[y * w + x];
+            img.pixels[y * w + x] =
+                Rgb::new((s[0] / n as f64) as f32, (s[1] / n as f64) as f32, (s[2] / n as f64) as f32);
+        }
+    }
+    img
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn passes_cover_every_sample_once() {
+        for spp in [0, 1, 2, 3, 64, 100, 1000] {
+            let p = passes(spp);
+            let mut next = 0;
+            for (a, b) in p {
+                assert_eq!(a, next);
+                assert!(b > a && b - a <= 64);
+                next = b;
+            }
+            assert_eq!(next, spp);
+        }
+    }
+}

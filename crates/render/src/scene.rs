@@ -1,0 +1,302 @@
+//! A scene: a camera, shapes each with a BRDF (and optionally an emission), lights, and the
+//! BVH over every primitive. Built once with [`SceneBuilder`], then only read.
+
+use crate::bvh::Bvh;
+use crate::camera::Camera;
+use crate::error::{Error, Result};
+use crate::light::{AreaLight, Light, LightSample, RefPoint};
+use crate::ray::{spawn_ray, spawn_ray_to, surface_epsilon, Ray};
+use crate::shape::mesh::intersect_triangle;
+use crate::shape::{Geometry, Sphere};
+use brdf::Brdf;
+use glam::{Vec2, Vec3};
+use radiometry::{Frame, Rgb};
+use std::sync::Arc;
+
+/// A shape with its reflection model and, when it glows, its emitted radiance.
+#[derive(Clone, Debug)]
+pub struct Shape {
+    /// The geometry, in world space.
+    pub geometry: Geometry,
+    /// How it reflects (shared: many shapes may use one model).
+    pub brdf: Arc<dyn Brdf>,
+    /// Radiance emitted from its front side, W/(m²·sr); makes it an area light.
+    pub emission: Option<Rgb>,
+}
+
+impl Shape {
+    /// A non-emitting shape.
+    pub fn new(geometry: Geometry, brdf: Arc<dyn Brdf>) -> Self {
+        Shape { geometry, brdf, emission: None }
+    }
+}
+
+/// One BVH primitive, stored in BVH order with what the hot loop needs inline.
+#[derive(Clone, Copy, Debug)]
+enum Prim {
+    Triangle { p0: Vec3, e1: Vec3, e2: Vec3 },
+    Sphere(Sphere),
+    Rectangle,
+}
+
+/// Where a ray meets a surface.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceInteraction {
+    /// The hit distance along the ray.
+    pub t: f32,
+    /// The point.
+    pub p: Vec3,
+    /// Unit geometric normal (the shape's front side).
+    pub ng: Vec3,
+    /// Shading frame (its `n` is the shading normal).
+    pub frame: Frame,
+    /// The shape's index.
+    pub shape: usize,
+}
+
+/// Collects shapes and lights; `build` makes the BVH and the area lights.
+pub struct SceneBuilder {
+    camera: Camera,
+    shapes: Vec<Shape>,
+    lights: Vec<Light>,
+}
+
+impl SceneBuilder {
+    /// An empty scene seen by `camera`.
+    pub fn new(camera: Camera) -> Self {
+        SceneBuilder { camera, shapes: Vec::new(), lights: Vec::new() }
+    }
+
+    /// Adds a shape; returns its index.
+    pub fn shape(&mut self, shape: Shape) -> usize {
+        self.shapes.push(shape);
+        self.shapes.len() - 1
+    }
+
+    /// Adds a light that is not a shape (point, constant, environment map).
+    pub fn light(&mut self, light: Light) -> &mut Self {
+        self.lights.push(light);
+        self
+    }
+
+    /// Builds the scene.
+    pub fn build(self) -> Result<Scene> {
+        let SceneBuilder { camera, shapes, mut lights } = self;
+        let mut light_of_shape = vec![None; shapes.len()];
+        for (i, s) in shapes.iter().enumerate() {
+            if let Some(radiance) = s.emission {
+                if !radiance.is_finite() || radiance.min_channel() < 0.0 {
+                    return Err(Error::Invalid(format!(
+                        "shape {i}: emitted radiance {radiance:?} is not finite and ≥ 0"
+                    )));
+                }
+                light_of_shape[i] = Some(lights.len());
+                lights.push(Light::Area(AreaLight { shape: i, radiance }));
+            }
+        }
+        if lights.iter().filter(|l| matches!(l, Light::Constant(_) | Light::EnvMap(_))).count() > 1 {
+            return Err(Error::Invalid("a scene can hold at most one environment (constant or envmap)".into()));
+        }
+        let mut refs = Vec::new();
+        let mut bounds = Vec::new();
+        for (si, s) in shapes.iter().enumerate() {
+            for k in 0..s.geometry.primitive_count() {
+                refs.push((si as u32, k as u32));
+                bounds.push(s.geometry.primitive_bounds(k));
+            }
+        }
+        let bvh = Bvh::build(&bounds);
+        let refs: Vec<(u32, u32)> = bvh.order.iter().map(|&i| refs[i as usize]).collect();
+        let prims = refs
+            .iter()
+            .map(|&(s, k)| match &shapes[s as usize].geometry {
+                Geometry::Mesh(m) => {
+                    let [a, b, c] = m.triangle(k as usize);
+                    Prim::Triangle { p0: a, e1: b - a, e2: c - a }
+                }
+                Geometry::Sphere(sp) => Prim::Sphere(*sp),
+                Geometry::Rectangle(_) => Prim::Rectangle,
+            })
+            .collect();
+        let environment = lights.iter().position(Light::is_environment);
+        Ok(Scene { camera, shapes, lights, light_of_shape, environment, bvh, prims, refs })
+    }
+}
+
+/// A built scene.
+pub struct Scene {
+    /// The camera.
+    pub camera: Camera,
+    shapes: Vec<Shape>,
+    lights: Vec<Light>,
+    light_of_shape: Vec<Option<usize>>,
+    environment: Option<usize>,
+    bvh: Bvh,
+    prims: Vec<Prim>,
+    /// (shape, primitive within the shape) per BVH-ordered primitive.
+    refs: Vec<(u32, u32)>,
+}
+
+impl Scene {
+    /// The shapes.
+    pub fn shapes(&self) -> &[Shape] {
+        &self.shapes
+    }
+
+    /// The lights (area lights included, one per emitting shape).
+    pub fn lights(&self) -> &[Light] {
+        &self.lights
+    }
+
+    /// The number of BVH primitives.
+    pub fn primitive_count(&self) -> usize {
+        self.prims.len()
+    }
+
+    /// The BVH.
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
+    }
+
+    #[inline]
+    fn intersect_prim(&self, k: usize, o: Vec3, d: Vec3, t_max: f32) -> Option<f32> {
+        match &self.prims[k] {
+            Prim::Triangle { p0, e1, e2 } => intersect_triangle(o, d, t_max, *p0, *e1, *e2).map(|h| h.0),
+            Prim::Sphere(s) => s.intersect(o, d, t_max),
+            Prim::Rectangle => match &self.shapes[self.refs[k].0 as usize].geometry {
+                Geometry::Rectangle(r) => r.intersect(o, d, t_max),
+                _ => None,
+            },
+        }
+    }
+
+    /// The closest hit as (BVH-ordered primitive, distance), without shading data.
+    #[inline]
+    pub fn intersect_t(&self, ray: &Ray) -> Option<(usize, f32)> {
+        self.bvh.closest(ray, |k, t_max| self.intersect_prim(k, ray.o, ray.d, t_max))
+    }
+
+    /// The closest hit by testing every primitive (no BVH): the reference the BVH is tested
+    /// and benchmarked against.
+    pub fn intersect_t_linear(&self, ray: &Ray) -> Option<(usize, f32)> {
+        let mut best = None;
+        let mut t_max = ray.t_max;
+        for k in 0..self.prims.len() {
+            if let Some(t) = self.intersect_prim(k, ray.o, ray.d, t_max) {
+                t_max = t;
+                best = Some((k, t));
+            }
+        }
+        best
+    }
+
+    /// True when anything lies along the ray within (0, t_max).
+    #[inline]
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        self.bvh.any(ray, |k, t_max| self.intersect_prim(k, ray.o, ray.d, t_max))
+    }
+
+    /// True when the light sample `ls` is unobstructed from surface point `p` (geometric
+    /// normal `ng`). A point on an area light is seen when the first thing the ray meets is
+    /// that shape (spheres and rectangles are convex: nothing of theirs can hide the point)
+    /// or, for a mesh, that shape at nearly that point. A shadow ray that merely stopped
+    /// short of the target would be blocked by a curved emitter itself wherever the ray
+    /// grazes it, since the origin's offset moves a grazing hit far along the ray.
+    pub fn unoccluded(&self, p: Vec3, ng: Vec3, ls: &LightSample) -> bool {
+        if !ls.dist.is_finite() {
+            return !self.occluded(&spawn_ray(p, ng, ls.wi));
+        }
+        let (mut ray, _, dist) = spawn_ray_to(p, ng, ls.p);
+        let Some(shape) = ls.shape else { return !self.occluded(&ray) };
+        let tolerance = 1e-3 * dist + surface_epsilon(ls.p);
+        ray.t_max = (ls.p - ray.o).length() + tolerance;
+        match self.intersect_t(&ray) {
+            None => true,
+            Some((k, t)) => {
+                self.refs[k].0 as usize == shape
+                    && (!matches!(self.shapes[shape].geometry, Geometry::Mesh(_))
+                        || ray.at(t).distance(ls.p) <= tolerance)
+            }
+        }
+    }
+
+    /// The closest hit with its surface data.
+    pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
+        let (k, t) = self.intersect_t(ray)?;
+        let (shape, index) = self.refs[k];
+        let (p, ng, ns) = match (&self.prims[k], &self.shapes[shape as usize].geometry) {
+            (Prim::Triangle { p0, e1, e2 }, Geometry::Mesh(m)) => {
+                // Recompute the barycentrics of the winning triangle (cheaper than carrying them).
+                let (_, u, v) = intersect_triangle(ray.o, ray.d, f32::INFINITY, *p0, *e1, *e2).unwrap_or((t, 0.0, 0.0));
+                let (ng, ns) = m.normals_at(index as usize, u, v);
+                (*p0 + *e1 * u + *e2 * v, ng, ns)
+            }
+            (Prim::Sphere(s), _) => {
+                let p = s.reproject(ray.at(t));
+                let n = s.normal(p);
+                (p, n, n)
+            }
+            (_, Geometry::Rectangle(r)) => (ray.at(t), r.n, r.n),
+            _ => unreachable!("primitive and shape kinds always match"),
+        };
+        Some(SurfaceInteraction { t, p, ng, frame: Frame::from_normal(ns), shape: shape as usize })
+    }
+
+    /// The BRDF of shape `shape`.
+    #[inline]
+    pub fn brdf(&self, shape: usize) -> &dyn Brdf {
+        &*self.shapes[shape].brdf
+    }
+
+    /// The area light on shape `shape`, with its light index.
+    #[inline]
+    pub fn area_light(&self, shape: usize) -> Option<(usize, &AreaLight)> {
+        let i = self.light_of_shape[shape]?;
+        match &self.lights[i] {
+            Light::Area(a) => Some((i, a)),
+            _ => None,
+        }
+    }
+
+    /// The environment light, if any, with its index.
+    #[inline]
+    pub fn environment(&self) -> Option<(usize, &Light)> {
+        self.environment.map(|i| (i, &self.lights[i]))
+    }
+
+    /// Probability of choosing any one light (uniform choice).
+    #[inline]
+    pub fn light_select_pdf(&self) -> f32 {
+        1.0 / self.lights.len().max(1) as f32
+    }
+
+    /// Chooses a light uniformly and samples it; the returned pdf includes the choice.
+    pub fn sample_light(&self, r: &RefPoint, uc: f32, uc2: f32, u: Vec2) -> Option<LightSample> {
+        if self.lights.is_empty() {
+            return None;
+        }
+        let n = self.lights.len();
+        let i = ((uc * n as f32) as usize).min(n - 1);
+        let mut s = match &self.lights[i] {
+            Light::Point(l) => l.sample(r)?,
+            Light::Area(a) => a.sample(&self.shapes[a.shape].geometry, r, uc2, u)?,
+            Light::Constant(c) => c.sample(r, u)?,
+            Light::EnvMap(e) => e.sample(r.p, u)?,
+        };
+        s.pdf *= self.light_select_pdf();
+        Some(s)
+    }
+
+    /// Density (choice included) with which `sample_light` from `r` gives direction `wi`
+    /// towards light `light`; for an area light, `hit` is the point reached and its normal.
+    pub fn light_pdf(&self, light: usize, r: &RefPoint, wi: Vec3, hit: Option<(Vec3, Vec3)>) -> f32 {
+        let pdf = match (&self.lights[light], hit) {
+            (Light::Point(_), _) => 0.0,
+            (Light::Area(a), Some((p, n))) => self.shapes[a.shape].geometry.pdf(r.p, p, n),
+            (Light::Area(_), None) => 0.0,
+            (Light::Constant(c), _) => c.pdf(r, wi),
+            (Light::EnvMap(e), _) => e.pdf(wi),
+        };
+        pdf * self.light_select_pdf()
+    }
+}

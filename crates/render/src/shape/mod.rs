@@ -1,0 +1,130 @@
+//! Shapes: triangle meshes, spheres and rectangles, their bounding boxes, and the
+//! primitive-level interface the BVH and the lights use.
+
+pub mod mesh;
+pub mod rectangle;
+pub mod sphere;
+
+pub use mesh::TriangleMesh;
+pub use rectangle::Rectangle;
+pub use sphere::{ShapeSample, Sphere};
+
+use glam::{Vec2, Vec3};
+
+/// An axis-aligned bounding box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    /// Lower corner.
+    pub min: Vec3,
+    /// Upper corner.
+    pub max: Vec3,
+}
+
+impl Aabb {
+    /// The empty box (the identity of `union`).
+    pub const EMPTY: Aabb = Aabb { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
+
+    /// The box grown to hold `p`.
+    #[inline]
+    pub fn grow(self, p: Vec3) -> Aabb {
+        Aabb { min: self.min.min(p), max: self.max.max(p) }
+    }
+
+    /// The smallest box holding both.
+    #[inline]
+    pub fn union(self, o: Aabb) -> Aabb {
+        Aabb { min: self.min.min(o.min), max: self.max.max(o.max) }
+    }
+
+    /// The centre.
+    #[inline]
+    pub fn center(&self) -> Vec3 {
+        0.5 * (self.min + self.max)
+    }
+
+    /// Half the surface area (the SAH only needs ratios); 0 for an empty box.
+    #[inline]
+    pub fn half_area(&self) -> f32 {
+        let e = (self.max - self.min).max(Vec3::ZERO);
+        e.x * e.y + e.y * e.z + e.z * e.x
+    }
+
+    /// True when the box holds nothing.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.min.x > self.max.x || self.min.y > self.max.y || self.min.z > self.max.z
+    }
+}
+
+/// The geometry of one shape.
+#[derive(Clone, Debug)]
+pub enum Geometry {
+    /// A triangle mesh (one primitive per triangle).
+    Mesh(TriangleMesh),
+    /// A sphere (one primitive).
+    Sphere(Sphere),
+    /// A rectangle (one primitive).
+    Rectangle(Rectangle),
+}
+
+impl Geometry {
+    /// The number of BVH primitives.
+    pub fn primitive_count(&self) -> usize {
+        match self {
+            Geometry::Mesh(m) => m.len(),
+            _ => 1,
+        }
+    }
+
+    /// The bounding box of primitive `i`.
+    pub fn primitive_bounds(&self, i: usize) -> Aabb {
+        match self {
+            Geometry::Mesh(m) => m.triangle_bounds(i),
+            Geometry::Sphere(s) => s.bounds(),
+            Geometry::Rectangle(r) => r.bounds(),
+        }
+    }
+
+    /// The surface area.
+    pub fn area(&self) -> f32 {
+        match self {
+            Geometry::Mesh(m) => m.area(),
+            Geometry::Sphere(s) => s.area(),
+            Geometry::Rectangle(r) => r.area(),
+        }
+    }
+
+    /// A point on the shape seen from `r`, with its solid-angle density at `r`.
+    pub fn sample(&self, r: Vec3, uc: f32, u: Vec2) -> Option<ShapeSample> {
+        let (p, n, pdf_area) = match self {
+            Geometry::Sphere(s) => return s.sample(r, u),
+            Geometry::Mesh(m) => m.sample_area(uc, u),
+            Geometry::Rectangle(q) => q.sample_area(u),
+        };
+        let pdf = sphere::area_to_solid_angle(pdf_area, r, p, n)?;
+        Some(ShapeSample { p, n, pdf })
+    }
+
+    /// The solid-angle density of `sample` from `r` giving point `p` with normal `n`.
+    pub fn pdf(&self, r: Vec3, p: Vec3, n: Vec3) -> f32 {
+        match self {
+            Geometry::Sphere(s) => s.pdf(r, p),
+            _ => sphere::area_to_solid_angle(1.0 / self.area(), r, p, n).unwrap_or(0.0),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn aabb_algebra() {
+        let b = Aabb::EMPTY.grow(Vec3::ZERO).grow(Vec3::new(1.0, 2.0, 3.0));
+        assert_eq!(b.center(), Vec3::new(0.5, 1.0, 1.5));
+        assert_eq!(b.half_area(), 2.0 + 6.0 + 3.0);
+        assert!(Aabb::EMPTY.is_empty() && !b.is_empty());
+        assert_eq!(Aabb::EMPTY.half_area(), 0.0);
+        assert_eq!(Aabb::EMPTY.union(b), b);
+    }
+}
