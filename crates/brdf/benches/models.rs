@@ -31,7 +31,7 @@ fn bench_models(c: &mut Criterion) {
 
     let mut eval = c.benchmark_group("eval");
     eval.throughput(Throughput::Elements(N as u64));
-    for m in models() {
+    for m in models().iter().filter(|m| !m.requires_file()) {
         let b: Box<dyn Brdf> = m.build_with(&[]).expect("defaults build");
         eval.bench_function(m.name, |bench| {
             bench.iter(|| {
@@ -47,7 +47,7 @@ fn bench_models(c: &mut Criterion) {
 
     let mut sample = c.benchmark_group("sample");
     sample.throughput(Throughput::Elements(N as u64));
-    for m in models() {
+    for m in models().iter().filter(|m| !m.requires_file()) {
         let b: Box<dyn Brdf> = m.build_with(&[]).expect("defaults build");
         sample.bench_function(m.name, |bench| {
             bench.iter(|| {

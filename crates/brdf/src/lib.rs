@@ -10,6 +10,7 @@ pub mod combine;
 pub mod cook_torrance;
 pub mod fresnel;
 pub mod lambert;
+pub mod measured;
 pub mod microfacet;
 pub mod microfacet_brdf;
 pub mod mirror;

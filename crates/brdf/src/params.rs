@@ -16,6 +16,8 @@ pub enum ParamKind {
     Choice(&'static [&'static str]),
     /// true or false.
     Bool,
+    /// A file path; the empty default means "none given" (the model says whether it needs one).
+    Path,
 }
 
 /// A parameter value.
@@ -29,6 +31,8 @@ pub enum Value {
     Choice(String),
     /// A flag.
     Bool(bool),
+    /// A file path, as written.
+    Path(String),
 }
 
 impl fmt::Display for Value {
@@ -39,6 +43,7 @@ impl fmt::Display for Value {
             Value::Rgb([r, g, b]) => write!(f, "{r},{g},{b}"),
             Value::Choice(s) => f.write_str(s),
             Value::Bool(b) => write!(f, "{b}"),
+            Value::Path(p) => f.write_str(p),
         }
     }
 }
@@ -77,6 +82,11 @@ impl ParamSpec {
         ParamSpec { name, kind: ParamKind::Bool, default: Value::Bool(default), doc }
     }
 
+    /// A file path, empty by default.
+    pub fn path(name: &'static str, doc: &'static str) -> Self {
+        ParamSpec { name, kind: ParamKind::Path, default: Value::Path(String::new()), doc }
+    }
+
     /// The valid values, as a user reads them: "[0, 1]", "one of a|b", "true|false".
     pub fn range_text(&self) -> String {
         match &self.kind {
@@ -84,6 +94,7 @@ impl ParamSpec {
             ParamKind::Rgb { min, max } => format!("[{min}, {max}] (one value or r,g,b)"),
             ParamKind::Choice(opts) => format!("one of {}", opts.join("|")),
             ParamKind::Bool => "true|false".to_string(),
+            ParamKind::Path => "a file path".to_string(),
         }
     }
 
@@ -120,6 +131,8 @@ impl ParamSpec {
                 "false" | "0" | "no" => Ok(Value::Bool(false)),
                 _ => Err(bad()),
             },
+            // The file is read when the model is built, which names it in any error.
+            ParamKind::Path => Ok(Value::Path(text.trim().to_string())),
         }
     }
 }
@@ -196,6 +209,14 @@ impl Params {
         match self.get(name) {
             Value::Choice(s) => s,
             other => panic!("parameter '{name}' is {other:?}, not a choice"),
+        }
+    }
+
+    /// A file path ("" when none was given).
+    pub fn path(&self, name: &str) -> &str {
+        match self.get(name) {
+            Value::Path(p) => p,
+            other => panic!("parameter '{name}' is {other:?}, not a path"),
         }
     }
 

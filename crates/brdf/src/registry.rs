@@ -34,6 +34,15 @@ impl ModelSpec {
         let params = Params::resolve(self.name, &(self.params)(), given)?;
         (self.build)(&params)
     }
+
+    /// True when the model is data read from a file (a path parameter with no default, e.g.
+    /// `merl --filename`): it cannot be built from its defaults, so loops that build every
+    /// model at its defaults (`check --all`, benches) skip it.
+    pub fn requires_file(&self) -> bool {
+        (self.params)()
+            .iter()
+            .any(|p| p.kind == crate::params::ParamKind::Path && p.default == crate::params::Value::Path(String::new()))
+    }
 }
 
 /// Every model, in the order `gonio models` lists them.
@@ -50,6 +59,7 @@ pub fn models() -> &'static [ModelSpec] {
         crate::blinn_phong::SPEC,
         crate::blinn_phong::MODIFIED_SPEC,
         crate::ward::SPEC,
+        crate::measured::SPEC,
     ]
 }
 
@@ -75,7 +85,13 @@ mod tests {
         let mut names = std::collections::HashSet::new();
         for m in models() {
             assert!(names.insert(m.name), "duplicate model name {}", m.name);
-            assert!(m.build_with(&[]).is_ok(), "{} fails to build with its defaults", m.name);
+            if m.requires_file() {
+                // Explicitly: a model read from a file must refuse to build without one, saying so.
+                let e = m.build_with(&[]).err().map(|e| e.to_string()).unwrap_or_default();
+                assert!(e.contains("file"), "{} builds without its file or says nothing about it: {e}", m.name);
+            } else {
+                assert!(m.build_with(&[]).is_ok(), "{} fails to build with its defaults", m.name);
+            }
             for p in (m.params)() {
                 assert_eq!(p.parse(&p.default.to_string()).as_ref(), Ok(&p.default), "{}.{}", m.name, p.name);
             }

@@ -38,6 +38,11 @@ pub enum Command {
     Plot(PlotArgs),
     /// Write gonio-lobes.svg and gonio-albedo.svg and print the `check --all` report.
     Demo(DemoArgs),
+    /// Virtual gonio-reflectometer: tabulate a model into a MERL .binary or a tabulated .csv file.
+    #[command(after_help = MEASURE_AFTER_HELP)]
+    Measure(MeasureArgs),
+    /// Convert a light probe (mirror ball, equirect, cube map) and print its upward irradiance.
+    Envmap(crate::cmd::envmap::EnvmapArgs),
 }
 
 const PLOT_AFTER_HELP: &str = "\
@@ -215,6 +220,42 @@ pub struct PlotArgs {
     pub param: Vec<String>,
 }
 
+const MEASURE_AFTER_HELP: &str = "\
+Model parameters: --NAME VALUE, --NAME=VALUE or -p NAME=VALUE (see `gonio models`).
+
+The output format follows the extension: .binary writes the full MERL table (90 θh × 90 θd ×
+180 φd, 34,992,012 bytes; the step options do not apply); .csv or .txt writes the tabulated
+text format (theta_i,phi_i,theta_o,phi_o,r,g,b in degrees and 1/sr) on the grid θ = j·90°/steps,
+φ = j·360°/steps. Entries with a direction below the horizon are written as not measured (-1)
+in MERL files. The output is written atomically and never over one of the inputs.
+
+Exit status: 0 success; 2 an error.";
+
+/// `gonio measure`.
+#[derive(Debug, Args)]
+pub struct MeasureArgs {
+    /// Model name (see `gonio models`), analytic or measured (`merl --filename F`).
+    pub model: String,
+    /// Output file: .binary (MERL) or .csv/.txt (tabulated).
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: PathBuf,
+    /// Incident polar angles θi of the tabulated grid (0° up to 90° exclusive).
+    #[arg(long, default_value_t = 18, value_name = "M")]
+    pub theta_i_steps: usize,
+    /// Incident azimuths φi of the tabulated grid (1: one plane of incidence, for isotropic models).
+    #[arg(long, default_value_t = 1, value_name = "K")]
+    pub phi_i_steps: usize,
+    /// Outgoing polar angles θo of the tabulated grid (0° up to 90° exclusive).
+    #[arg(long, default_value_t = 18, value_name = "N")]
+    pub theta_o_steps: usize,
+    /// Outgoing azimuths φo of the tabulated grid (0° up to 360° exclusive).
+    #[arg(long, default_value_t = 72, value_name = "K")]
+    pub phi_o_steps: usize,
+    /// A model parameter, NAME=VALUE (the same as --NAME VALUE).
+    #[arg(short = 'p', long = "param", value_name = "NAME=VALUE")]
+    pub param: Vec<String>,
+}
+
 /// `gonio demo`.
 #[derive(Debug, Args)]
 pub struct DemoArgs {
@@ -269,7 +310,7 @@ fn known_options(sub: &str) -> Option<(Known<String>, Known<char>)> {
 /// Splits `argv` into what clap parses and the model parameters (`--NAME VALUE`, `--NAME=VALUE`).
 pub fn split_args(argv: Vec<String>) -> Result<(Vec<String>, ModelParams), UsageError> {
     let Some(sub) = argv.get(1).cloned() else { return Ok((argv, Vec::new())) };
-    if !matches!(sub.as_str(), "eval" | "check" | "plot") {
+    if !matches!(sub.as_str(), "eval" | "check" | "plot" | "measure") {
         return Ok((argv, Vec::new()));
     }
     let (longs, shorts) = known_options(&sub).expect("the subcommand exists");

@@ -40,6 +40,8 @@ fn main() -> ExitCode {
         Command::Check(a) => cmd::check::run(a, &model_params),
         Command::Plot(a) => cmd::plot::run(a, &model_params).map(|()| true),
         Command::Demo(a) => cmd::demo::run(a),
+        Command::Measure(a) => cmd::measure::run(a, &model_params).map(|()| true),
+        Command::Envmap(a) => cmd::envmap::run(a).map(|()| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

@@ -213,7 +213,7 @@ fn raw_phong_visibly_fails_what_it_does_not_claim() {
 fn check_all_covers_every_case_and_its_exit_status_follows_the_claims() {
     let o = gonio(&["check", "--all", "--json"]);
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON report");
-    let cases: usize = brdf::models().iter().map(|m| 1 + m.showcase.len()).sum();
+    let cases: usize = brdf::models().iter().filter(|m| !m.requires_file()).map(|m| 1 + m.showcase.len()).sum();
     assert_eq!(v["cases"].as_array().unwrap().len(), cases);
     let ok = v["ok"].as_bool().unwrap();
     assert_eq!(ok, v["cases"].as_array().unwrap().iter().all(|c| c["ok"] == true));
@@ -237,4 +237,83 @@ fn demo_writes_both_plots_and_the_report() {
     let ok = text.contains("every claimed property holds");
     assert_eq!(o.status.code(), Some(if ok { 0 } else { 1 }), "{text}{}", stderr(&o));
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn measure_writes_a_merl_table_that_loads_and_passes_check() {
+    let dir = scratch("measure");
+    let bin = dir.join("lambert.binary");
+    let o = gonio(&["measure", "lambert", "--albedo", "0.1,0.2,0.3", "-o", bin.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("34992012 bytes"), "{}", stdout(&o));
+    assert_eq!(std::fs::metadata(&bin).unwrap().len(), 34_992_012);
+    // Read back as a model: a constant BRDF interpolates to itself.
+    let v = json(&gonio(&[
+        "eval",
+        "merl",
+        "--filename",
+        bin.to_str().unwrap(),
+        "--wi",
+        "0.3,0.1,1",
+        "--wo",
+        "-0.4,0.2,1",
+        "--json",
+    ]));
+    let inv_pi = std::f64::consts::FRAC_1_PI;
+    for (c, a) in [0.1, 0.2, 0.3].iter().enumerate() {
+        assert!((v["brdf"][c].as_f64().unwrap() - a * inv_pi).abs() < 1e-6, "{v}");
+    }
+    let o = gonio(&["check", "merl", "--filename", bin.to_str().unwrap(), "--json"]);
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON report");
+    assert_eq!(r["ok"], true, "{r}");
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // The measured model can itself be measured, but never over its own file.
+    let o = gonio(&["measure", "merl", "--filename", bin.to_str().unwrap(), "-o", bin.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("refusing to overwrite the input"), "{}", stderr(&o));
+    assert_eq!(std::fs::metadata(&bin).unwrap().len(), 34_992_012);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn measure_writes_the_tabulated_grid_and_bad_inputs_are_errors() {
+    let dir = scratch("measure-csv");
+    let csv = dir.join("ward.csv");
+    let o = gonio(&[
+        "measure",
+        "ward",
+        "--alpha",
+        "0.3",
+        "-o",
+        csv.to_str().unwrap(),
+        "--theta-i-steps",
+        "3",
+        "--theta-o-steps",
+        "4",
+        "--phi-o-steps",
+        "5",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#') && !l.starts_with("theta")).collect();
+    assert_eq!(rows.len(), 3 * 4 * 5);
+    assert!(rows.iter().all(|r| r.split(',').count() == 7));
+    assert_eq!(rows[1].split(',').take(4).collect::<Vec<_>>(), ["0", "0", "0", "72"]);
+
+    let o = gonio(&["measure", "lambert", "-o", dir.join("x.pdf").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains(".binary"), "{}", stderr(&o));
+    let o = gonio(&["measure", "lambert", "-o", csv.to_str().unwrap(), "--phi-o-steps", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--phi-o-steps 0"), "{}", stderr(&o));
+    // A malformed MERL file names itself and the fault.
+    let bad = dir.join("bad.binary");
+    std::fs::write(&bad, [0u8, 0, 0, 90, 0, 0, 0, 90, 0, 0, 0, 180]).unwrap();
+    let o = gonio(&["check", "merl", "--filename", bad.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("bad.binary") && stderr(&o).contains("wrong endianness"), "{}", stderr(&o));
+    let o = gonio(&["eval", "merl", "--wi", "0,0,1", "--wo", "0,0,1"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("needs a file"), "{}", stderr(&o));
+    let _ = std::fs::remove_dir_all(&dir);
 }

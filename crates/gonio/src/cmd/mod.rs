@@ -2,7 +2,9 @@
 
 pub mod check;
 pub mod demo;
+pub mod envmap;
 pub mod eval;
+pub mod measure;
 pub mod models;
 pub mod plot;
 

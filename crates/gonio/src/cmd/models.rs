@@ -12,6 +12,7 @@ fn kind_name(p: &ParamSpec) -> &'static str {
         ParamKind::Rgb { .. } => "rgb",
         ParamKind::Choice(_) => "choice",
         ParamKind::Bool => "bool",
+        ParamKind::Path => "path",
     }
 }
 
@@ -29,7 +30,7 @@ fn param_json(p: &ParamSpec) -> serde_json::Value {
             o["max"] = serde_json::json!(max);
         }
         ParamKind::Choice(opts) => o["options"] = serde_json::json!(opts),
-        ParamKind::Bool => {}
+        ParamKind::Bool | ParamKind::Path => {}
     }
     o
 }
