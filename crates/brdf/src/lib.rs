@@ -8,6 +8,7 @@ pub mod blinn_phong;
 pub mod check;
 pub mod combine;
 pub mod cook_torrance;
+pub mod fit;
 pub mod fresnel;
 pub mod lambert;
 pub mod measured;

@@ -43,6 +43,12 @@ pub enum Command {
     Measure(MeasureArgs),
     /// Convert a light probe (mirror ball, equirect, cube map) and print its upward irradiance.
     Envmap(crate::cmd::envmap::EnvmapArgs),
+    /// Render a scene (without one, the built-in demo) to PNG or EXR.
+    Render(crate::cmd::render::RenderArgs),
+    /// Render the same object in several models side by side, labelled, in one image.
+    Compare(crate::cmd::compare::CompareArgs),
+    /// Fit analytic models (plus a Lambert term) to a MERL or tabulated file by Levenberg–Marquardt.
+    Fit(crate::cmd::fit::FitArgs),
 }
 
 const PLOT_AFTER_HELP: &str = "\

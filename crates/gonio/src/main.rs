@@ -42,6 +42,9 @@ fn main() -> ExitCode {
         Command::Demo(a) => cmd::demo::run(a),
         Command::Measure(a) => cmd::measure::run(a, &model_params).map(|()| true),
         Command::Envmap(a) => cmd::envmap::run(a).map(|()| true),
+        Command::Render(a) => cmd::render::run(a).map(|()| true),
+        Command::Compare(a) => cmd::compare::run(a).map(|()| true),
+        Command::Fit(a) => cmd::fit::run(a).map(|()| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

@@ -317,3 +317,51 @@ fn measure_writes_the_tabulated_grid_and_bad_inputs_are_errors() {
     assert!(stderr(&o).contains("needs a file"), "{}", stderr(&o));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn fit_recovers_a_measured_model_ranks_all_and_plots() {
+    let dir = scratch("fit");
+    let bin = dir.join("ggx.binary");
+    let o = gonio(&[
+        "measure",
+        "ggx",
+        "--alpha",
+        "0.2",
+        "--fresnel",
+        "none",
+        "--diffuse",
+        "0.1,0.2,0.3",
+        "-o",
+        bin.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg = dir.join("fit.svg");
+    let out = json(&gonio(&["fit", bin.to_str().unwrap(), "--model", "ggx", "--json", "-o", svg.to_str().unwrap()]));
+    let f = &out["fits"][0];
+    assert_eq!(f["model"], "ggx");
+    // Noise-free data of the fitted model itself: the parameters come back within 2 %.
+    assert!((f["shape"].as_f64().unwrap() / 0.2 - 1.0).abs() < 0.02, "{out}");
+    for (c, want) in [0.1, 0.2, 0.3].into_iter().enumerate() {
+        assert!((f["diffuse"][c].as_f64().unwrap() / want - 1.0).abs() < 0.02, "{out}");
+        assert!((f["ks"][c].as_f64().unwrap() - 1.0).abs() < 0.02, "{out}");
+    }
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg") && text.contains("θi = 40°"), "{text}");
+
+    let o = gonio(&["fit", bin.to_str().unwrap(), "--all"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    let first = text.lines().find(|l| l.trim_start().starts_with("1 ")).unwrap_or_default();
+    assert!(first.contains("ggx"), "{text}");
+    for m in ["ward", "cook-torrance", "modified-blinn-phong", "beckmann"] {
+        assert!(text.contains(m), "{m} missing from\n{text}");
+    }
+
+    let o = gonio(&["fit", bin.to_str().unwrap(), "--model", "phong"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("ward, cook-torrance"), "{}", stderr(&o));
+    let o = gonio(&["fit", dir.join("missing.binary").to_str().unwrap(), "--model", "ggx"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("missing.binary"), "{}", stderr(&o));
+    let _ = std::fs::remove_dir_all(&dir);
+}

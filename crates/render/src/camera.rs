@@ -2,6 +2,7 @@
 //! +z with +x to the left and +y up; `look_at` builds the to-world matrix whose columns are
 //! (left, up, forward, origin); `fov` is in degrees along `fov_axis`.
 
+use crate::filter::Filter;
 use crate::ray::Ray;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
@@ -58,6 +59,8 @@ pub struct Camera {
     pub near_clip: f32,
     /// Rays end this far along camera-space z (Mitsuba's far_clip).
     pub far_clip: f32,
+    /// The film's reconstruction filter (box unless set).
+    pub filter: Filter,
 }
 
 impl Camera {
@@ -84,6 +87,20 @@ impl Camera {
             tan_half: Vec2::new(tan_x, tan_x * h / w),
             near_clip: 0.0,
             far_clip: f32::INFINITY,
+            filter: Filter::Box,
+        }
+    }
+
+    /// A film position for a sample of pixel `pixel` (its top-left corner) drawn from the
+    /// filter with uniform `u`, and the weight that multiplies the sample's radiance.
+    #[inline]
+    pub fn film_sample(&self, pixel: Vec2, u: Vec2) -> (Vec2, f32) {
+        match &self.filter {
+            Filter::Box => (pixel + u, 1.0),
+            f => {
+                let (offset, weight) = f.sample(u);
+                (pixel + Vec2::splat(0.5) + offset, weight)
+            }
         }
     }
 

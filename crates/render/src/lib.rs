@@ -23,8 +23,11 @@
 
 pub mod bvh;
 pub mod camera;
+pub mod demo;
 pub mod distribution;
+pub mod envmap_convert;
 pub mod error;
+pub mod filter;
 pub mod image;
 pub mod integrator;
 pub mod io;
@@ -34,6 +37,7 @@ pub mod renderer;
 pub mod sampler;
 pub mod scene;
 pub mod shape;
+pub mod xml;
 
 pub use error::{Error, Result};
 pub use image::Image;

@@ -57,9 +57,10 @@ fn passes(spp: u32) -> Vec<(u32, u32)> {
     out
 }
 
-/// Renders `scene`: each pixel is the mean of `spp` samples placed uniformly over its area
-/// (a box filter), sample `s` of pixel `p` drawn from the stream (seed, p, s). `progress`
-/// is called from worker threads after each row of each pass.
+/// Renders `scene`: each pixel is the mean of `spp` samples placed by the camera's filter
+/// (uniformly over its area for the box filter; weighted, see `filter.rs`), sample `s` of
+/// pixel `p` drawn from the stream (seed, p, s). `progress` is called from worker threads
+/// after each row of each pass.
 pub fn render(scene: &Scene, opts: &RenderOptions, progress: impl Fn(Progress) + Sync) -> Image {
     let (w, h) = (scene.camera.width as usize, scene.camera.height as usize);
     if w == 0 || h == 0 {
@@ -80,8 +81,8 @@ pub fn render(scene: &Scene, opts: &RenderOptions, progress: impl Fn(Progress) +
                     let pixel = (y * w + x) as u64;
                     for s in s0..s1 {
                         let mut sampler = Sampler::new(opts.seed, pixel, s as u64);
-                        let film = Vec2::new(x as f32, y as f32) + sampler.next_2d();
-                        let l = opts.integrator.li(scene, scene.camera.ray(film), &mut sampler);
+                        let (film, weight) = scene.camera.film_sample(Vec2::new(x as f32, y as f32), sampler.next_2d());
+                        let l = opts.integrator.li(scene, scene.camera.ray(film), &mut sampler) * weight;
                         for (a, c) in acc.iter_mut().zip(l.0) {
                             *a += c as f64;
                         }

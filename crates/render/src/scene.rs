@@ -4,6 +4,7 @@
 use crate::bvh::Bvh;
 use crate::camera::Camera;
 use crate::error::{Error, Result};
+use crate::integrator::phong::PhongCoefficients;
 use crate::light::{AreaLight, Light, LightSample, RefPoint};
 use crate::ray::{spawn_ray, spawn_ray_to, surface_epsilon, Ray};
 use crate::shape::mesh::intersect_triangle;
@@ -37,6 +38,7 @@ enum Prim {
     Triangle { p0: Vec3, e1: Vec3, e2: Vec3 },
     Sphere(Sphere),
     Rectangle,
+    Disk,
 }
 
 /// Where a ray meets a surface.
@@ -59,12 +61,33 @@ pub struct SceneBuilder {
     camera: Camera,
     shapes: Vec<Shape>,
     lights: Vec<Light>,
+    phong: Vec<Option<PhongCoefficients>>,
 }
 
 impl SceneBuilder {
     /// An empty scene seen by `camera`.
     pub fn new(camera: Camera) -> Self {
-        SceneBuilder { camera, shapes: Vec::new(), lights: Vec::new() }
+        SceneBuilder { camera, shapes: Vec::new(), lights: Vec::new(), phong: Vec::new() }
+    }
+
+    /// Gives shape `shape` the lecture's Phong coefficients, used by `Integrator::Phong`.
+    pub fn set_phong(&mut self, shape: usize, coefficients: PhongCoefficients) -> &mut Self {
+        if self.phong.len() <= shape {
+            self.phong.resize(shape + 1, None);
+        }
+        self.phong[shape] = Some(coefficients);
+        self
+    }
+
+    /// Adds a shape with the registry model `name` and its parameters, and with the model's
+    /// Phong coefficients when it has them (`lambert`, `phong`, `blinn-phong`); returns its index.
+    pub fn shape_with_model(&mut self, geometry: Geometry, name: &str, params: &[(&str, &str)]) -> Result<usize> {
+        let brdf = brdf::build(name, params).map_err(|e| Error::Invalid(e.to_string()))?;
+        let i = self.shape(Shape::new(geometry, brdf.into()));
+        if let Some(c) = PhongCoefficients::from_model(name, params) {
+            self.set_phong(i, c);
+        }
+        Ok(i)
     }
 
     /// Adds a shape; returns its index.
@@ -81,7 +104,8 @@ impl SceneBuilder {
 
     /// Builds the scene.
     pub fn build(self) -> Result<Scene> {
-        let SceneBuilder { camera, shapes, mut lights } = self;
+        let SceneBuilder { camera, shapes, mut lights, mut phong } = self;
+        phong.resize(shapes.len(), None);
         let mut light_of_shape = vec![None; shapes.len()];
         for (i, s) in shapes.iter().enumerate() {
             if let Some(radiance) = s.emission {
@@ -116,10 +140,11 @@ impl SceneBuilder {
                 }
                 Geometry::Sphere(sp) => Prim::Sphere(*sp),
                 Geometry::Rectangle(_) => Prim::Rectangle,
+                Geometry::Disk(_) => Prim::Disk,
             })
             .collect();
         let environment = lights.iter().position(Light::is_environment);
-        Ok(Scene { camera, shapes, lights, light_of_shape, environment, bvh, prims, refs })
+        Ok(Scene { camera, shapes, lights, light_of_shape, environment, bvh, prims, refs, phong })
     }
 }
 
@@ -135,6 +160,8 @@ pub struct Scene {
     prims: Vec<Prim>,
     /// (shape, primitive within the shape) per BVH-ordered primitive.
     refs: Vec<(u32, u32)>,
+    /// The lecture's Phong coefficients per shape, where given.
+    phong: Vec<Option<PhongCoefficients>>,
 }
 
 impl Scene {
@@ -165,6 +192,10 @@ impl Scene {
             Prim::Sphere(s) => s.intersect(o, d, t_max),
             Prim::Rectangle => match &self.shapes[self.refs[k].0 as usize].geometry {
                 Geometry::Rectangle(r) => r.intersect(o, d, t_max),
+                _ => None,
+            },
+            Prim::Disk => match &self.shapes[self.refs[k].0 as usize].geometry {
+                Geometry::Disk(dk) => dk.intersect(o, d, t_max),
                 _ => None,
             },
         }
@@ -237,9 +268,16 @@ impl Scene {
                 (p, n, n)
             }
             (_, Geometry::Rectangle(r)) => (ray.at(t), r.n, r.n),
+            (_, Geometry::Disk(dk)) => (ray.at(t), dk.normal(), dk.normal()),
             _ => unreachable!("primitive and shape kinds always match"),
         };
         Some(SurfaceInteraction { t, p, ng, frame: Frame::from_normal(ns), shape: shape as usize })
+    }
+
+    /// The Phong coefficients of shape `shape`, when it has them.
+    #[inline]
+    pub fn phong(&self, shape: usize) -> Option<&PhongCoefficients> {
+        self.phong.get(shape).and_then(Option::as_ref)
     }
 
     /// The BRDF of shape `shape`.
@@ -279,6 +317,8 @@ impl Scene {
         let i = ((uc * n as f32) as usize).min(n - 1);
         let mut s = match &self.lights[i] {
             Light::Point(l) => l.sample(r)?,
+            Light::Spot(l) => l.sample(r)?,
+            Light::Directional(l) => l.sample(r)?,
             Light::Area(a) => a.sample(&self.shapes[a.shape].geometry, r, uc2, u)?,
             Light::Constant(c) => c.sample(r, u)?,
             Light::EnvMap(e) => e.sample(r.p, u)?,
@@ -291,7 +331,7 @@ impl Scene {
     /// towards light `light`; for an area light, `hit` is the point reached and its normal.
     pub fn light_pdf(&self, light: usize, r: &RefPoint, wi: Vec3, hit: Option<(Vec3, Vec3)>) -> f32 {
         let pdf = match (&self.lights[light], hit) {
-            (Light::Point(_), _) => 0.0,
+            (Light::Point(_) | Light::Spot(_) | Light::Directional(_), _) => 0.0,
             (Light::Area(a), Some((p, n))) => self.shapes[a.shape].geometry.pdf(r.p, p, n),
             (Light::Area(_), None) => 0.0,
             (Light::Constant(c), _) => c.pdf(r, wi),

@@ -97,7 +97,12 @@ pub fn run(a: &EnvmapArgs) -> Result<()> {
     };
     let h = probe.irradiance_up();
     let lum = 0.2126 * h[0] + 0.7152 * h[1] + 0.0722 * h[2];
-    outln!("irradiance on an upward surface H = ∫ L cosθ dω: rgb {:.6} {:.6} {:.6} W/m², luminance {lum:.6}", h[0], h[1], h[2]);
+    outln!(
+        "irradiance on an upward surface H = ∫ L cosθ dω: rgb {:.6} {:.6} {:.6} W/m², luminance {lum:.6}",
+        h[0],
+        h[1],
+        h[2]
+    );
     let Some(out) = &a.output else { return Ok(()) };
     match a.to {
         Layout::Equirect => save(&probe.to_equirect(2 * a.size, a.size), Path::new(out), a.exposure, &inputs)?,

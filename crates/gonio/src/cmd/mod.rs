@@ -1,12 +1,15 @@
 //! One module per subcommand.
 
 pub mod check;
+pub mod compare;
 pub mod demo;
 pub mod envmap;
 pub mod eval;
+pub mod fit;
 pub mod measure;
 pub mod models;
 pub mod plot;
+pub mod render;
 
 use crate::cli::parse_param_options;
 use crate::modelarg::ModelArg;

@@ -2,6 +2,7 @@
 
 pub mod direct;
 pub mod path;
+pub mod phong;
 
 use crate::ray::Ray;
 use crate::sampler::Sampler;
@@ -23,6 +24,12 @@ pub enum Integrator {
     /// Direct lighting only: emitters seen directly plus one light and one BRDF sample
     /// combined by MIS at the first surface (Mitsuba's `direct` with one sample each).
     Direct,
+    /// The lecture's Phong illumination model, L = k_a L_a + Σ_l L_l [k_d (I·N) + k_s (R·V)^k_e],
+    /// with point lights only and L_a the constant environment's radiance (see [`phong`]).
+    Phong {
+        /// Trace a shadow ray to each light (the 1975 model has none).
+        shadows: bool,
+    },
 }
 
 impl Default for Integrator {
@@ -39,6 +46,7 @@ impl Integrator {
         match *self {
             Integrator::Path { max_depth, rr_depth } => path::li(scene, ray, sampler, max_depth, rr_depth),
             Integrator::Direct => direct::li(scene, ray, sampler),
+            Integrator::Phong { shadows } => phong::li(scene, ray, shadows),
         }
     }
 }

@@ -33,6 +33,8 @@ pub struct EnvMap {
     cos_theta: Vec<f32>,
     /// False: sample the sphere uniformly instead (for tests and comparisons).
     pub importance: bool,
+    /// The map's rotation into the world (Mitsuba's `to_world`); None for the identity.
+    to_world: Option<glam::Mat3>,
 }
 
 /// The (u, v) of Mitsuba's lookup for a unit direction.
@@ -83,7 +85,29 @@ impl EnvMap {
             columns,
             cos_theta,
             importance: true,
+            to_world: None,
         })
+    }
+
+    /// The map turned by the rotation `r` (world = r · map direction). None when `r` is not
+    /// a rotation (orthonormal with determinant 1, to 1e-4): other maps would not keep the
+    /// density normalised.
+    pub fn with_rotation(mut self, r: glam::Mat3) -> Option<Self> {
+        let err = (r.transpose() * r - glam::Mat3::IDENTITY).to_cols_array().iter().fold(0.0f32, |a, x| a.max(x.abs()));
+        if !(err < 1e-4 && (r.determinant() - 1.0).abs() < 1e-4) {
+            return None;
+        }
+        self.to_world = (r != glam::Mat3::IDENTITY).then_some(r);
+        Some(self)
+    }
+
+    /// A world direction in the map's frame.
+    #[inline]
+    fn to_map(&self, d: Vec3) -> Vec3 {
+        match &self.to_world {
+            Some(r) => r.transpose() * d,
+            None => d,
+        }
     }
 
     /// Texel (column i, row j).
@@ -94,7 +118,7 @@ impl EnvMap {
 
     /// Radiance arriving from direction `d` (unit, pointing away from the scene).
     pub fn eval(&self, d: Vec3) -> Rgb {
-        let uv = direction_to_uv(d);
+        let uv = direction_to_uv(self.to_map(d));
         let x = uv.x * self.width as f32 - 0.5;
         let y = uv.y * (self.height - 1) as f32;
         let i0 = x.floor();
@@ -134,6 +158,10 @@ impl EnvMap {
         } else {
             (uniform_sphere(u), uniform_sphere_pdf())
         };
+        let wi = match &self.to_world {
+            Some(r) => *r * wi,
+            None => wi,
+        };
         let li = self.eval(wi);
         (pdf > 0.0 && pdf.is_finite()).then_some(LightSample {
             wi,
@@ -151,7 +179,7 @@ impl EnvMap {
         if !self.importance {
             return uniform_sphere_pdf();
         }
-        let (i, j) = self.cell(d);
+        let (i, j) = self.cell(self.to_map(d));
         let omega = (TAU / self.width as f32) * (self.cos_theta[j] - self.cos_theta[j + 1]);
         let pdf = self.rows.prob(j) * self.columns[j].prob(i) / omega;
         if pdf.is_finite() {

@@ -1,15 +1,19 @@
-//! Lights: point, diffuse area, constant environment and environment map. Each can be
+//! Lights: point, spot, directional, diffuse area, constant environment and environment map. Each can be
 //! sampled from a reference point and report the density of a direction it might produce.
 
 pub mod area;
 pub mod constant;
+pub mod directional;
 pub mod envmap;
 pub mod point;
+pub mod spot;
 
 pub use area::AreaLight;
 pub use constant::ConstantEnv;
+pub use directional::DirectionalLight;
 pub use envmap::EnvMap;
 pub use point::PointLight;
+pub use spot::SpotLight;
 
 use glam::Vec3;
 use radiometry::Rgb;
@@ -53,6 +57,10 @@ pub enum Light {
     Constant(ConstantEnv),
     /// An environment map.
     EnvMap(Box<EnvMap>),
+    /// A spot light.
+    Spot(SpotLight),
+    /// A directional light (parallel light from infinitely far).
+    Directional(DirectionalLight),
 }
 
 impl Light {

@@ -1,10 +1,12 @@
-//! Shapes: triangle meshes, spheres and rectangles, their bounding boxes, and the
+//! Shapes: triangle meshes, spheres, rectangles and disks, their bounding boxes, and the
 //! primitive-level interface the BVH and the lights use.
 
+pub mod disk;
 pub mod mesh;
 pub mod rectangle;
 pub mod sphere;
 
+pub use disk::Disk;
 pub use mesh::TriangleMesh;
 pub use rectangle::Rectangle;
 pub use sphere::{ShapeSample, Sphere};
@@ -65,6 +67,8 @@ pub enum Geometry {
     Sphere(Sphere),
     /// A rectangle (one primitive).
     Rectangle(Rectangle),
+    /// A disk (one primitive).
+    Disk(Disk),
 }
 
 impl Geometry {
@@ -82,6 +86,7 @@ impl Geometry {
             Geometry::Mesh(m) => m.triangle_bounds(i),
             Geometry::Sphere(s) => s.bounds(),
             Geometry::Rectangle(r) => r.bounds(),
+            Geometry::Disk(d) => d.bounds(),
         }
     }
 
@@ -91,6 +96,7 @@ impl Geometry {
             Geometry::Mesh(m) => m.area(),
             Geometry::Sphere(s) => s.area(),
             Geometry::Rectangle(r) => r.area(),
+            Geometry::Disk(d) => d.area(),
         }
     }
 
@@ -100,6 +106,7 @@ impl Geometry {
             Geometry::Sphere(s) => return s.sample(r, u),
             Geometry::Mesh(m) => m.sample_area(uc, u),
             Geometry::Rectangle(q) => q.sample_area(u),
+            Geometry::Disk(d) => d.sample_area(u),
         };
         let pdf = sphere::area_to_solid_angle(pdf_area, r, p, n)?;
         Some(ShapeSample { p, n, pdf })
