@@ -149,9 +149,14 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let (img, cancelled) = render_with_progress(&scene, &opts, "rendering");
     save_image(&img, &a.output, a.exposure, &inputs)?;
     let secs = start.elapsed().as_secs_f64();
+    let (w, h) = (img.width, img.height);
     if cancelled {
-        eprintln!("gonio: interrupted: saved the samples taken so far");
+        outln!(
+            "wrote {} ({w}x{h}, interrupted before {spp} spp: the samples taken so far, {secs:.1} s)",
+            a.output.display()
+        );
+    } else {
+        outln!("wrote {} ({w}x{h}, {spp} spp, {secs:.1} s)", a.output.display());
     }
-    outln!("wrote {} ({}x{}, {} spp, {secs:.1} s)", a.output.display(), img.width, img.height, spp);
     Ok(())
 }
