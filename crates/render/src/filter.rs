@@ -16,18 +16,13 @@ use glam::Vec2;
 const CELLS: usize = 256;
 
 /// A reconstruction filter.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub enum Filter {
     /// The pixel's square (radius ½ px).
+    #[default]
     Box,
     /// Mitsuba's windowed Gaussian.
     Gaussian(Gaussian),
-}
-
-impl Default for Filter {
-    fn default() -> Self {
-        Filter::Box
-    }
 }
 
 impl Filter {

@@ -14,7 +14,9 @@
 //! still measures it).
 
 pub mod error;
+pub mod heightfield;
 pub mod merl;
+pub mod microsurface;
 pub mod sampling;
 pub mod tabulated;
 

@@ -75,7 +75,7 @@ fn geometry(ctx: &Ctx, p: &Plugin) -> Result<Geometry, XmlError> {
             flip_ok(p)?;
             let center = p.vec3(ctx, "center")?.unwrap_or(Vec3::ZERO);
             let radius = p.float(ctx, "radius", 1.0)?;
-            if !(radius > 0.0) {
+            if radius <= 0.0 {
                 return Err(p.err_at(ctx, "radius", format!("radius {radius} must be > 0")));
             }
             let s = uniform_scale(&to_world).ok_or_else(|| {
