@@ -5,9 +5,9 @@ use glam::DVec3;
 use rand::{Rng, SeedableRng};
 use std::f64::consts::PI;
 
-/// Irradiance H = ∫ L(ω) cos θ dω by the midpoint rule on an `n_theta` × `n_phi` grid in (θ, φ).
-/// `radiance` receives a unit direction in the local z-up frame.
-pub fn irradiance_quadrature(radiance: impl Fn(DVec3) -> f64, n_theta: usize, n_phi: usize) -> f64 {
+/// ∫ f(ω) dω over the upper hemisphere by the midpoint rule on an `n_theta` × `n_phi` grid in (θ, φ).
+/// `f` receives a unit direction in the local z-up frame.
+pub fn hemisphere_integral(f: impl Fn(DVec3) -> f64, n_theta: usize, n_phi: usize) -> f64 {
     let dt = 0.5 * PI / n_theta as f64;
     let dp = 2.0 * PI / n_phi as f64;
     let mut sum = 0.0;
@@ -17,11 +17,17 @@ pub fn irradiance_quadrature(radiance: impl Fn(DVec3) -> f64, n_theta: usize, n_
         let mut ring = 0.0;
         for j in 0..n_phi {
             let p = (j as f64 + 0.5) * dp;
-            ring += radiance(DVec3::new(st * p.cos(), st * p.sin(), ct));
+            ring += f(DVec3::new(st * p.cos(), st * p.sin(), ct));
         }
-        sum += ring * ct * st;
+        sum += ring * st;
     }
     sum * dt * dp
+}
+
+/// Irradiance H = ∫ L(ω) cos θ dω by the midpoint rule on an `n_theta` × `n_phi` grid in (θ, φ).
+/// `radiance` receives a unit direction in the local z-up frame.
+pub fn irradiance_quadrature(radiance: impl Fn(DVec3) -> f64, n_theta: usize, n_phi: usize) -> f64 {
+    hemisphere_integral(|w| radiance(w) * w.z, n_theta, n_phi)
 }
 
 /// A Monte Carlo estimate with its standard error.

@@ -184,20 +184,7 @@ pub(crate) mod tests {
 
     /// Midpoint rule over the hemisphere in (θ, φ) of f(direction) sin θ.
     pub(crate) fn hemisphere(f: &dyn Fn(Vec3) -> f64, n_theta: usize, n_phi: usize) -> f64 {
-        let dt = 0.5 * PI / n_theta as f64;
-        let dp = 2.0 * PI / n_phi as f64;
-        let mut sum = 0.0;
-        for i in 0..n_theta {
-            let t = (i as f64 + 0.5) * dt;
-            let (st, ct) = t.sin_cos();
-            let mut ring = 0.0;
-            for j in 0..n_phi {
-                let p = (j as f64 + 0.5) * dp;
-                ring += f(Vec3::new((st * p.cos()) as f32, (st * p.sin()) as f32, ct as f32));
-            }
-            sum += ring * st;
-        }
-        sum * dt * dp
+        radiometry::integrate::hemisphere_integral(|w| f(w.as_vec3()), n_theta, n_phi)
     }
 
     /// The integral at two resolutions; the quadrature's error is bounded by their difference
