@@ -2,7 +2,7 @@
 //! shining along local +z with intensity I(θ) = I₀·s(θ), where θ is the angle from the axis
 //! and s = 1 inside `beam_width`, 0 beyond `cutoff_angle`, and falls linearly in θ between.
 
-use crate::light::{LightSample, RefPoint};
+use crate::light::{LightSample, PointLight, RefPoint};
 use glam::Vec3;
 use radiometry::Rgb;
 
@@ -37,19 +37,13 @@ impl SpotLight {
 
     /// The one direction towards the light, with the incident radiance-equivalent I(θ)/r².
     pub fn sample(&self, r: &RefPoint) -> Option<LightSample> {
-        let delta = self.position - r.p;
-        let dist2 = delta.length_squared();
-        if !dist2.is_finite() || dist2 <= 0.0 {
-            return None;
-        }
-        let dist = dist2.sqrt();
-        let wi = delta / dist;
-        let s = self.falloff(-wi);
+        let mut sample = PointLight { position: self.position, intensity: self.intensity }.sample(r)?;
+        let s = self.falloff(-sample.wi);
         if s <= 0.0 {
             return None;
         }
-        let li = self.intensity * (s / dist2);
-        li.is_finite().then_some(LightSample { wi, dist, p: self.position, li, pdf: 1.0, delta: true, shape: None })
+        sample.li *= s;
+        Some(sample)
     }
 }
 
