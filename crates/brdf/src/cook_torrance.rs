@@ -104,7 +104,13 @@ impl Brdf for CookTorrance {
 }
 
 fn params() -> Vec<ParamSpec> {
-    let mut v = vec![ParamSpec::float("m", 0.001, 1.0, 0.3, "Beckmann roughness m: RMS slope of the surface (√2 × the RMS slope along one axis)")];
+    let mut v = vec![ParamSpec::float(
+        "m",
+        0.001,
+        1.0,
+        0.3,
+        "Beckmann roughness m: RMS slope of the surface (√2 × the RMS slope along one axis)",
+    )];
     v.extend(fresnel::params("dielectric"));
     v.push(combine::diffuse_param());
     v

@@ -99,7 +99,10 @@ fn params_with(with_distribution: bool) -> Vec<ParamSpec> {
     if with_distribution {
         v.push(ParamSpec::choice("distribution", &["beckmann", "ggx"], "ggx", "distribution of facet normals D"));
     }
-    v.extend(roughness::params(0.2, "roughness α (Beckmann: the RMS slope of the surface, √2 × the RMS slope along one axis)"));
+    v.extend(roughness::params(
+        0.2,
+        "roughness α (Beckmann: the RMS slope of the surface, √2 × the RMS slope along one axis)",
+    ));
     v.push(ParamSpec::choice(
         "shadowing",
         &["smith-separable", "smith-correlated"],

@@ -122,7 +122,10 @@ impl Brdf for Ward {
 
 fn params() -> Vec<ParamSpec> {
     let mut v = vec![ParamSpec::rgb("ks", 0.0, 1.0, 0.2, "specular reflectance ρ_s")];
-    v.extend(roughness::params(0.1, "roughness α: RMS slope of the surface (√2 × the RMS slope along one axis), as Beckmann m"));
+    v.extend(roughness::params(
+        0.1,
+        "roughness α: RMS slope of the surface (√2 × the RMS slope along one axis), as Beckmann m",
+    ));
     v.push(combine::diffuse_param());
     v
 }

@@ -235,13 +235,44 @@ text format (theta_i,phi_i,theta_o,phi_o,r,g,b in degrees and 1/sr) on the grid 
 φ = j·360°/steps. Entries with a direction below the horizon are written as not measured (-1)
 in MERL files. The output is written atomically and never over one of the inputs.
 
+--microsurface measures a periodic Gaussian height field of RMS slope --rms-slope whose facets
+reflect by MODEL (default: a mirror), by tracing --rays rays per incident direction: ρ = the
+fraction of the beam's flux reaching a detector cell / the cell's projected solid angle. Each
+θo, φo value is the centre of a cell reaching halfway to its neighbours. Only .csv/.txt output.
+  gonio measure --microsurface --rms-slope 0.3 -o rough.csv
+  gonio measure lambert --albedo 0.8 --microsurface --rms-slope 0.5 --rays 1000000 -o l.csv
+
 Exit status: 0 success; 2 an error.";
 
 /// `gonio measure`.
 #[derive(Debug, Args)]
 pub struct MeasureArgs {
-    /// Model name (see `gonio models`), analytic or measured (`merl --filename F`).
-    pub model: String,
+    /// Model name (see `gonio models`), analytic or measured (`merl --filename F`); with
+    /// --microsurface, the facets' model (default: an ideal mirror).
+    #[arg(required_unless_present = "microsurface")]
+    pub model: Option<String>,
+    /// Measure an explicit micro-surface (a Gaussian random height field) by ray tracing, with
+    /// multiple bounces between facets, instead of tabulating a model.
+    #[arg(long)]
+    pub microsurface: bool,
+    /// --microsurface: RMS slope of the height field (Beckmann's m = Ward's α).
+    #[arg(long, default_value_t = 0.3, value_name = "S", requires = "microsurface")]
+    pub rms_slope: f64,
+    /// --microsurface: rays traced per incident direction.
+    #[arg(long, default_value_t = 200_000, value_name = "N", requires = "microsurface")]
+    pub rays: usize,
+    /// --microsurface: seed of the height field and of the rays.
+    #[arg(long, default_value_t = 1, value_name = "S", requires = "microsurface")]
+    pub seed: u64,
+    /// --microsurface: facet hits after which a ray is given up.
+    #[arg(long, default_value_t = 100, value_name = "K", requires = "microsurface")]
+    pub bounces: u32,
+    /// --microsurface: height-field cells per side (the surface is periodic).
+    #[arg(long, default_value_t = 256, value_name = "N", requires = "microsurface")]
+    pub grid: usize,
+    /// --microsurface: collimated beams, or light filling each incident grid cell (reciprocal bins).
+    #[arg(long, default_value = "collimated", value_parser = ["collimated", "cell"], requires = "microsurface")]
+    pub beam: String,
     /// Output file: .binary (MERL) or .csv/.txt (tabulated).
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: PathBuf,

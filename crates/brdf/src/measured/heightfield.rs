@@ -103,7 +103,12 @@ impl HeightField {
         let mut cell_max = vec![0.0; n * n];
         for j in 0..n {
             for i in 0..n {
-                let v = [h[j * n + i], h[j * n + (i + 1) % n], h[((j + 1) % n) * n + i], h[((j + 1) % n) * n + (i + 1) % n]];
+                let v = [
+                    h[j * n + i],
+                    h[j * n + (i + 1) % n],
+                    h[((j + 1) % n) * n + i],
+                    h[((j + 1) % n) * n + (i + 1) % n],
+                ];
                 cell_min[j * n + i] = v.iter().copied().fold(f64::INFINITY, f64::min);
                 cell_max[j * n + i] = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
             }
@@ -184,11 +189,10 @@ impl HeightField {
             }
         };
         let (mut tx, mut ty) = (next(ci, o.x, d.x), next(cj, o.y, d.y));
-        let (dtx, dty) = (if d.x == 0.0 { f64::INFINITY } else { 1.0 / d.x.abs() }, if d.y == 0.0 {
-            f64::INFINITY
-        } else {
-            1.0 / d.y.abs()
-        });
+        let (dtx, dty) = (
+            if d.x == 0.0 { f64::INFINITY } else { 1.0 / d.x.abs() },
+            if d.y == 0.0 { f64::INFINITY } else { 1.0 / d.y.abs() },
+        );
         let mut t_enter = 0.0f64;
         // Cells a ray may cross before it must have risen out or fallen through: far more than any
         // non-horizontal ray needs; a ray grazing the mean plane forever is dropped as lost.
@@ -243,7 +247,7 @@ impl HeightField {
                 continue;
             }
             let (u, v) = (ou + t * d.x, ov + t * d.y);
-            let inside = u >= -EPS && u <= 1.0 + EPS && v >= -EPS && v <= 1.0 + EPS;
+            let inside = (-EPS..=1.0 + EPS).contains(&u) && (-EPS..=1.0 + EPS).contains(&v);
             let side = if k == 0 { u >= v - EPS } else { v >= u - EPS };
             if inside && side && best.is_none_or(|(bt, _)| t < bt) {
                 best = Some((t, s));

@@ -273,12 +273,9 @@ impl Microsurface {
         let jobs = n_dirs * chunks_per_dir;
         let results: Mutex<Vec<Option<Chunk>>> = Mutex::new((0..jobs).map(|_| None).collect());
         let next = AtomicUsize::new(0);
-        let threads = if opts.threads == 0 {
-            std::thread::available_parallelism().map_or(1, |n| n.get())
-        } else {
-            opts.threads
-        }
-        .clamp(1, jobs.max(1));
+        let threads =
+            if opts.threads == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { opts.threads }
+                .clamp(1, jobs.max(1));
         let period = self.field.size() as f64;
         let run = || loop {
             let job = next.fetch_add(1, Ordering::Relaxed);
@@ -325,9 +322,9 @@ impl Microsurface {
                         match theta_bin(&te_o, t) {
                             Some(ti) => {
                                 let bin = ti * phi_o.len() + phi_bin(&phi_o, p);
-                                for k in 0..3 {
-                                    c.sum[bin][k] += w[k];
-                                    c.sum2[bin][k] += w[k] * w[k];
+                                for (k, wk) in w.iter().enumerate() {
+                                    c.sum[bin][k] += wk;
+                                    c.sum2[bin][k] += wk * wk;
                                 }
                             }
                             None => add(&mut c.balance.unbinned),
