@@ -18,6 +18,7 @@ pub mod mirror;
 pub mod model;
 pub mod params;
 pub mod phong;
+pub mod plastic;
 pub mod registry;
 pub mod roughness;
 pub mod ward;

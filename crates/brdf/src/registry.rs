@@ -59,6 +59,8 @@ pub fn models() -> &'static [ModelSpec] {
         crate::blinn_phong::SPEC,
         crate::blinn_phong::MODIFIED_SPEC,
         crate::ward::SPEC,
+        crate::plastic::ROUGH_SPEC,
+        crate::plastic::SMOOTH_SPEC,
         crate::measured::SPEC,
     ]
 }

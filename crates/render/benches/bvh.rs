@@ -1,54 +1,279 @@
-//! BVH speed on the peer benchmark's 100k-triangle torus (shared/bench/data/torus.ply):
-//! build time, and closest-hit throughput for coherent camera rays and incoherent diffuse
-//! bounce rays, one thread. Skipped when the file is absent.
+//! BVH speed on the peer benchmark's 100k-triangle torus (shared/bench/data/torus.ply), ours
+//! against the `obvhs` crate (PLOC-built binary BVH and its 8-wide compressed CWBVH).
+//!
+//! First a table: build times, then closest-hit Mrays/s for the same 1M rays through each
+//! hierarchy — camera rays of shared/bench/scenes/mesh.xml (512×512, 4 jittered samples per
+//! pixel) and random rays (origins uniform in the torus's box enlarged 10 %, directions
+//! uniform on the sphere) — on 1 and 2 rayon threads. Every hierarchy calls the same
+//! triangle test on the same triangle array (reordered to its leaf order), so the table
+//! compares hierarchies, not triangle tests. Before timing, the hit distances of a subset
+//! are checked to agree between the hierarchies.
+//!
+//! Then criterion runs for our BVH alone (camera and diffuse bounce rays, build), for
+//! tracking regressions. Skipped when the mesh is absent.
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{Criterion, Throughput};
 use glam::{Vec2, Vec3};
+use obvhs::{
+    bvh2::builder::build_bvh2_from_tris, cwbvh::builder::build_cwbvh_from_tris, ray::RayHit, triangle::Triangle,
+    BvhBuildParams,
+};
+use radiometry::warp::{cosine_hemisphere, uniform_sphere};
+use rayon::prelude::*;
+use render::bvh::Bvh;
 use render::camera::{look_at, Camera, FovAxis};
 use render::ray::{spawn_ray, Ray};
 use render::sampler::Sampler;
-use render::shape::Geometry;
+use render::shape::mesh::intersect_triangle;
+use render::shape::{Aabb, Geometry, TriangleMesh};
 use render::{Scene, SceneBuilder, Shape};
+use std::cell::Cell;
 use std::hint::black_box;
-use std::path::Path;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
 
-fn torus_scene() -> Option<Scene> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/bench/data/torus.ply");
-    let mesh = render::io::load_mesh(&p, false).ok()?;
-    // The camera of shared/bench/scenes/mesh.xml.
-    let cam = Camera::new(look_at(Vec3::new(0.0, 1.4, 5.0), Vec3::ZERO, Vec3::Y)?, 40.0, FovAxis::X, 512, 512);
-    let mut b = SceneBuilder::new(cam);
+/// Jittered samples per pixel of the camera rays: 512² × 4 ≈ 1M rays.
+const CAMERA_SPP: u32 = 4;
+/// Random rays traced.
+const RANDOM_RAYS: usize = 1 << 20;
+/// Rays per rayon task: large enough that scheduling costs nothing, small enough to balance.
+const CHUNK: usize = 4096;
+/// Every this many rays is checked for agreement between the hierarchies.
+const CHECK_STRIDE: usize = 16;
+/// Timed repetitions per case; the best is reported (the machine is shared).
+const REPS: usize = 5;
+
+fn torus_path() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/bench/data/torus.ply")
+}
+
+/// The camera of shared/bench/scenes/mesh.xml.
+fn camera() -> Camera {
+    let to_world = look_at(Vec3::new(0.0, 1.4, 5.0), Vec3::ZERO, Vec3::Y).expect("valid look-at");
+    Camera::new(to_world, 40.0, FovAxis::X, 512, 512)
+}
+
+/// A triangle as the hot loop wants it: a corner and two edges.
+#[derive(Clone, Copy)]
+struct Tri {
+    p0: Vec3,
+    e1: Vec3,
+    e2: Vec3,
+}
+
+impl Tri {
+    #[inline]
+    fn hit(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<f32> {
+        intersect_triangle(o, d, t_max, self.p0, self.e1, self.e2).map(|h| h.0)
+    }
+}
+
+/// The hierarchies under comparison, each with the triangles in its own leaf order.
+struct Contenders {
+    ours: (Bvh, Vec<Tri>),
+    bvh2: (obvhs::bvh2::Bvh2, Vec<Tri>),
+    cwbvh: (obvhs::cwbvh::CwBvh, Vec<Tri>),
+}
+
+/// The closest-hit distance of `ray` through hierarchy `which` (0 ours, 1 obvhs BVH2, 2 CWBVH).
+#[inline]
+fn trace(c: &Contenders, which: usize, ray: &Ray) -> Option<f32> {
+    trace_counted::<false>(c, which, ray, &Cell::new(0))
+}
+
+/// [`trace`], adding the number of triangle tests to `tests` when `COUNT`.
+#[inline]
+fn trace_counted<const COUNT: bool>(c: &Contenders, which: usize, ray: &Ray, tests: &Cell<u64>) -> Option<f32> {
+    let (o, d) = (ray.o, ray.d);
+    let hit = |t: &Tri, t_max: f32| {
+        if COUNT {
+            tests.set(tests.get() + 1);
+        }
+        t.hit(o, d, t_max)
+    };
+    match which {
+        0 => {
+            let (bvh, tris) = &c.ours;
+            bvh.closest(ray, |k, t_max| hit(&tris[k], t_max)).map(|h| h.1)
+        }
+        _ => {
+            // obvhs takes its own glam version's vectors; arrays bridge the two.
+            let r = obvhs::ray::Ray::new(o.to_array().into(), d.to_array().into(), 0.0, ray.t_max);
+            let mut rh = RayHit::none();
+            let test = |tris: &[Tri], r: &obvhs::ray::Ray, k: usize| hit(&tris[k], r.tmax).unwrap_or(f32::INFINITY);
+            let found = if which == 1 {
+                let (bvh, tris) = &c.bvh2;
+                bvh.ray_traverse(r, &mut rh, |r, k| test(tris, r, k))
+            } else {
+                let (bvh, tris) = &c.cwbvh;
+                bvh.ray_traverse(r, &mut rh, |r, k| test(tris, r, k))
+            };
+            found.then_some(rh.t)
+        }
+    }
+}
+
+const NAMES: [&str; 3] = ["ours (binned SAH, BVH2)", "obvhs BVH2 (PLOC)", "obvhs CWBVH (8-wide)"];
+
+fn timed<T>(f: impl FnOnce() -> T) -> (T, Duration) {
+    let t = Instant::now();
+    let v = f();
+    (v, t.elapsed())
+}
+
+fn build(mesh: &TriangleMesh) -> Contenders {
+    let tris: Vec<Tri> = (0..mesh.len())
+        .map(|i| {
+            let [a, b, c] = mesh.triangle(i);
+            Tri { p0: a, e1: b - a, e2: c - a }
+        })
+        .collect();
+    let reorder = |order: &[u32]| order.iter().map(|&i| tris[i as usize]).collect::<Vec<_>>();
+
+    let (ours, t_ours) = timed(|| {
+        let bounds: Vec<Aabb> = (0..mesh.len()).map(|i| mesh.triangle_bounds(i)).collect();
+        Bvh::build(&bounds)
+    });
+    let otris: Vec<Triangle> = (0..mesh.len())
+        .map(|i| {
+            let [a, b, c] = mesh.triangle(i);
+            Triangle { v0: a.to_array().into(), v1: b.to_array().into(), v2: c.to_array().into() }
+        })
+        .collect();
+    // medium_build: obvhs's preset meant to match Embree's build time.
+    let params = BvhBuildParams::medium_build();
+    let (bvh2, t_bvh2) = timed(|| build_bvh2_from_tris(&otris, params, &mut Duration::default()));
+    let (cwbvh, t_cw) = timed(|| build_cwbvh_from_tris(&otris, params, &mut Duration::default()));
+    println!("build, one thread, {} triangles:", mesh.len());
+    println!("  {:<26} {:>8.1} ms  {:>7} nodes", NAMES[0], t_ours.as_secs_f64() * 1e3, ours.node_count());
+    println!("  {:<26} {:>8.1} ms  {:>7} nodes", NAMES[1], t_bvh2.as_secs_f64() * 1e3, bvh2.nodes.len());
+    println!("  {:<26} {:>8.1} ms  {:>7} nodes", NAMES[2], t_cw.as_secs_f64() * 1e3, cwbvh.nodes.len());
+    let (t0, t1, t2) = (reorder(&ours.order), reorder(&bvh2.primitive_indices), reorder(&cwbvh.primitive_indices));
+    Contenders { ours: (ours, t0), bvh2: (bvh2, t1), cwbvh: (cwbvh, t2) }
+}
+
+/// 512×512 pixels × [`CAMERA_SPP`] box-filtered jittered samples, per-pixel streams.
+fn camera_rays(cam: &Camera) -> Vec<Ray> {
+    let mut rays = Vec::with_capacity((cam.width * cam.height * CAMERA_SPP) as usize);
+    for s in 0..CAMERA_SPP {
+        for y in 0..cam.height {
+            for x in 0..cam.width {
+                let pixel = u64::from(y * cam.width + x);
+                let u = Sampler::new(7, pixel, u64::from(s)).next_2d();
+                rays.push(cam.ray(Vec2::new(x as f32, y as f32) + u));
+            }
+        }
+    }
+    rays
+}
+
+/// Origins uniform in the box enlarged 10 % about its centre, directions uniform on the sphere.
+fn random_rays(bounds: Aabb, n: usize) -> Vec<Ray> {
+    let (c, h) = (bounds.center(), (bounds.max - bounds.min) * 0.5 * 1.1);
+    (0..n)
+        .map(|i| {
+            let mut s = Sampler::new(11, i as u64, 0);
+            let u = Vec3::new(s.next_1d(), s.next_1d(), s.next_1d());
+            Ray::new(c + h * (2.0 * u - Vec3::ONE), uniform_sphere(s.next_2d()))
+        })
+        .collect()
+}
+
+/// Checks every [`CHECK_STRIDE`]-th ray: the same hit or miss, distances within 1e-4 relative.
+fn check(c: &Contenders, name: &str, rays: &[Ray]) {
+    let (mut n, mut hits, mut bad) = (0, 0, 0);
+    let tests = [Cell::new(0), Cell::new(0), Cell::new(0)];
+    for r in rays.iter().step_by(CHECK_STRIDE) {
+        let t: Vec<Option<f32>> = (0..3).map(|w| trace_counted::<true>(c, w, r, &tests[w])).collect();
+        n += 1;
+        hits += t[0].is_some() as usize;
+        let agree = |a: Option<f32>, b: Option<f32>| match (a, b) {
+            (None, None) => true,
+            (Some(a), Some(b)) => (a - b).abs() <= 1e-4 * a.abs().max(b.abs()),
+            _ => false,
+        };
+        if !(agree(t[0], t[1]) && agree(t[0], t[2])) {
+            bad += 1;
+            if bad <= 5 {
+                eprintln!("  disagreement on {r:?}: {t:?}");
+            }
+        }
+    }
+    let per_ray = tests.map(|t| t.get() as f64 / n.max(1) as f64);
+    println!(
+        "  check {name}: {n} rays ({hits} hits), {bad} disagree; triangle tests per ray: {:.1} / {:.1} / {:.1}",
+        per_ray[0], per_ray[1], per_ray[2]
+    );
+    assert_eq!(bad, 0, "the hierarchies disagree on {bad} of {n} {name} rays");
+}
+
+/// Best-of-[`REPS`] Mrays/s for tracing `rays` through each hierarchy on `pool`. The
+/// hierarchies take turns within each repetition, so a load spike from other processes
+/// cannot favour one of them.
+fn mrays(pool: &rayon::ThreadPool, c: &Contenders, rays: &[Ray]) -> [f64; 3] {
+    let mut best = [Duration::MAX; 3];
+    for _ in 0..REPS {
+        for (which, b) in best.iter_mut().enumerate() {
+            let (hits, dt) = timed(|| {
+                pool.install(|| {
+                    rays.par_chunks(CHUNK)
+                        .map(|ch| ch.iter().filter(|r| trace(c, which, black_box(r)).is_some()).count())
+                        .sum::<usize>()
+                })
+            });
+            black_box(hits);
+            *b = (*b).min(dt);
+        }
+    }
+    best.map(|t| rays.len() as f64 / t.as_secs_f64().max(1e-9) * 1e-6)
+}
+
+fn comparison(mesh: &TriangleMesh) {
+    let c = build(mesh);
+    let sets = [("camera", camera_rays(&camera())), ("random", random_rays(c.ours.0.bounds(), RANDOM_RAYS))];
+    for (name, rays) in &sets {
+        check(&c, name, rays);
+    }
+    let threads = [1, 2];
+    let pools: Vec<_> =
+        threads.iter().map(|&t| rayon::ThreadPoolBuilder::new().num_threads(t).build().expect("thread pool")).collect();
+    let columns: Vec<[f64; 3]> =
+        sets.iter().flat_map(|(_, rays)| pools.iter().map(|pool| mrays(pool, &c, rays))).collect();
+    println!("closest hit, Mrays/s (best of {REPS}):");
+    println!("  {:<26} {:>10} {:>10} {:>10} {:>10}", "", "camera 1t", "camera 2t", "random 1t", "random 2t");
+    for (which, name) in NAMES.iter().enumerate() {
+        let row: String = columns.iter().map(|col| format!(" {:>10.2}", col[which])).collect();
+        println!("  {name:<26}{row}");
+    }
+    println!("  ({} camera rays, {} random rays)", sets[0].1.len(), sets[1].1.len());
+}
+
+fn torus_scene(mesh: TriangleMesh) -> Option<Scene> {
+    let mut b = SceneBuilder::new(camera());
     let brdf: std::sync::Arc<dyn brdf::Brdf> = brdf::build("lambert", &[]).ok()?.into();
     b.shape(Shape::new(Geometry::Mesh(mesh), brdf));
     b.build().ok()
 }
 
-fn rays(scene: &Scene) -> (Vec<Ray>, Vec<Ray>) {
+/// One ray per pixel centre, and a cosine-weighted bounce from each hit.
+fn scene_rays(scene: &Scene) -> (Vec<Ray>, Vec<Ray>) {
     let cam = &scene.camera;
     let primary: Vec<Ray> = (0..cam.height)
         .flat_map(|y| (0..cam.width).map(move |x| cam.ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5))))
         .collect();
-    // Bounce rays: from each primary hit, a cosine-weighted direction about the normal.
     let mut s = Sampler::new(1, 0, 0);
     let bounce = primary
         .iter()
         .filter_map(|r| scene.intersect(r))
-        .map(|si| {
-            let d = si.frame.to_world(radiometry::warp::cosine_hemisphere(s.next_2d()));
-            spawn_ray(si.p, si.ng, d)
-        })
+        .map(|si| spawn_ray(si.p, si.ng, si.frame.to_world(cosine_hemisphere(s.next_2d()))))
         .collect();
     (primary, bounce)
 }
 
-fn bench(c: &mut Criterion) {
-    let Some(scene) = torus_scene() else {
-        eprintln!("torus.ply not found: BVH benchmark skipped");
-        return;
-    };
-    let (primary, bounce) = rays(&scene);
+fn criterion_runs(c: &mut Criterion, scene: &Scene, mesh: &TriangleMesh) {
+    let (primary, bounce) = scene_rays(scene);
     let mut g = c.benchmark_group("bvh_torus");
-    g.sample_size(10);
+    g.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2));
     g.throughput(Throughput::Elements(primary.len() as u64));
     g.bench_function("primary_rays", |b| {
         b.iter(|| primary.iter().filter(|r| scene.intersect_t(black_box(r)).is_some()).count())
@@ -57,17 +282,24 @@ fn bench(c: &mut Criterion) {
     g.bench_function("bounce_rays", |b| {
         b.iter(|| bounce.iter().filter(|r| scene.intersect_t(black_box(r)).is_some()).count())
     });
-    g.throughput(Throughput::Elements(scene.primitive_count() as u64));
-    g.bench_function("build", |b| {
-        let mesh = match &scene.shapes()[0].geometry {
-            Geometry::Mesh(m) => m.clone(),
-            _ => unreachable!(),
-        };
-        let bounds: Vec<_> = (0..mesh.len()).map(|i| mesh.triangle_bounds(i)).collect();
-        b.iter(|| render::bvh::Bvh::build(black_box(&bounds)).node_count())
-    });
+    g.throughput(Throughput::Elements(mesh.len() as u64));
+    let bounds: Vec<_> = (0..mesh.len()).map(|i| mesh.triangle_bounds(i)).collect();
+    g.bench_function("build", |b| b.iter(|| Bvh::build(black_box(&bounds)).node_count()));
     g.finish();
 }
 
-criterion_group!(benches, bench);
-criterion_main!(benches);
+fn main() {
+    let mesh = match render::io::load_mesh(torus_path(), false) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("BVH benchmark skipped: {e}");
+            return;
+        }
+    };
+    let mut crit = Criterion::default().configure_from_args();
+    comparison(&mesh);
+    if let Some(scene) = torus_scene(mesh.clone()) {
+        criterion_runs(&mut crit, &scene, &mesh);
+    }
+    crit.final_summary();
+}

@@ -152,29 +152,19 @@ fn embedded_spheres_scene_matches_its_description() {
     )
     .unwrap();
     same_model(&*shapes[3].brdf, &*cu);
-    // The plastic approximation: coat plus a base of albedo ρ_d (1 − F̄), F̄(1.5) = 0.0918 (the
-    // classical hemispherical reflectance of glass, e.g. Walter et al. 2007, Fig. 8 / Kelemen).
-    let fbar = render::xml::bsdf::mean_dielectric_reflectance(1.5);
-    assert!((fbar - 0.0918).abs() < 5e-4, "{fbar}");
-    let (wi, wo) = dirs();
-    let plastic = &*shapes[4].brdf;
-    let coat = brdf::build(
-        "microfacet",
+    // Mitsuba's roughplastic, by the same name and parameters.
+    let plastic = brdf::build(
+        "roughplastic",
         &[
             ("distribution", "ggx"),
             ("alpha", "0.1"),
-            ("fresnel", "dielectric"),
-            ("eta", "1.5"),
-            ("shadowing", "smith-separable"),
+            ("int_ior", "1.5"),
+            ("ext_ior", "1"),
+            ("diffuse_reflectance", "0.1,0.27,0.6"),
         ],
     )
     .unwrap();
-    let base = (plastic.eval(wi, wo) - coat.eval(wi, wo)) * std::f32::consts::PI;
-    let expect = Rgb::new(0.1, 0.27, 0.6) * (1.0 - fbar as f32);
-    assert!(
-        (base - expect).max_channel().abs() < 1e-4 && (expect - base).max_channel() < 1e-4,
-        "{base:?} vs {expect:?}"
-    );
+    same_model(&*shapes[4].brdf, &*plastic);
     let lights = s.scene.lights();
     assert!(matches!(lights[0], Light::Constant(c) if c.radiance == Rgb::ONE));
     match &lights[1] {
@@ -333,18 +323,10 @@ fn bsdfs_by_mitsuba_and_gonio_names_refs_and_twosided() {
     )
     .unwrap();
     same_model(&*sh[4].brdf, &*custom);
-    // Smooth plastic: ρ_d = 0.5 default, η = 1.5046 (bk7) / 1.000277 (air), so the base albedo
-    // is 0.5 (1 − F̄) with F̄ ≈ 0.092, over a coat of α = 0.001.
-    let (wi, wo) = dirs();
-    let eta = (1.5046 / 1.000277) as f32;
-    let coat = brdf::build(
-        "microfacet",
-        &[("alpha", "0.001"), ("fresnel", "dielectric"), ("eta", &eta.to_string()), ("shadowing", "smith-separable")],
-    )
-    .unwrap();
-    let base = (sh[5].brdf.eval(wi, wo) - coat.eval(wi, wo)).0[0] * std::f32::consts::PI;
-    let expect = 0.5 * (1.0 - render::xml::bsdf::mean_dielectric_reflectance(eta) as f32);
-    assert!((base - expect).abs() < 1e-4, "{base} vs {expect}");
+    // Smooth plastic: ρ_d = 0.5 by default; the named index bk7 becomes 1.5046 and air 1.000277.
+    let smooth = brdf::build("plastic", &[("int_ior", "1.5046"), ("ext_ior", "1.000277")]).unwrap();
+    same_model(&*sh[5].brdf, &*smooth);
+    assert!(sh[5].brdf.has_delta());
     same_model(&*sh[6].brdf, &*brdf::build("lambert", &[("albedo", "0.5")]).unwrap());
     same_model(&*sh[7].brdf, &*brdf::build("phong", &[("ke", "30")]).unwrap());
 }

@@ -6,18 +6,12 @@
 //! | `diffuse` (reflectance) | `lambert` (albedo) |
 //! | `conductor` (material, eta, k, specular_reflectance) | `mirror` with a conductor Fresnel term (`material="none"`: no Fresnel, R = 1) |
 //! | `roughconductor` (distribution, alpha, alpha_u/v, material, eta, k) | `microfacet`, Smith separable shadowing (Mitsuba's G1·G1) |
-//! | `roughplastic`, `plastic` | an approximation, see below |
+//! | `roughplastic` (distribution, alpha, int_ior, ext_ior, diffuse/specular_reflectance, nonlinear) | `roughplastic`, the same model and names |
+//! | `plastic` (int_ior, ext_ior, diffuse/specular_reflectance, nonlinear) | `plastic`, the same model and names |
 //! | `twosided` | the nested model (see below) |
 //!
-//! `roughplastic` is approximated (exact matching comes with the next issue) by a dielectric
-//! microfacet coat over a Lambert base with a constant albedo: `microfacet` with
-//! `fresnel=dielectric`, η = int_ior/ext_ior, and `diffuse` = ρ_d·(1 − F̄), where
-//! F̄ = 2∫₀¹ F(μ) μ dμ is the coat's cosine-weighted mean reflectance. Mitsuba's base is
-//! ρ_d (1 − F(θi))(1 − F(θo)) / (π η² (1 − F̄_int)) (nonlinear = false); since
-//! η² (1 − F̄_int) = 1 − F̄, replacing both (1 − F) factors by their mean gives ρ_d (1 − F̄)/π.
-//! What it leaves out: the angular shape of the base (darker at grazing in Mitsuba) and
-//! that the coat's Fresnel is taken at the half vector only. `plastic` (a smooth coat) is the
-//! same with α = `brdf::microfacet_brdf::ALPHA_MIN`, a very narrow lobe instead of a delta.
+//! `roughplastic` and `plastic` are Mitsuba's models reproduced in `brdf::plastic`; named
+//! indices of refraction (`<string name="int_ior" value="bk7"/>`) become their numbers here.
 //!
 //! `twosided` loads as its nested model: gonio's surfaces reflect from their front side
 //! only, so a back face stays black (as in Mitsuba without `twosided`).
@@ -155,19 +149,6 @@ fn ior(ctx: &Ctx, p: &Plugin, name: &str, default: f64) -> Result<f64, XmlError>
     }
 }
 
-/// The cosine-weighted mean reflectance 2∫₀¹ F(μ) μ dμ of a dielectric interface of relative
-/// index `eta`, seen from outside (midpoint rule; F is smooth, 2,000 steps are far below f32
-/// resolution of the final albedo).
-pub fn mean_dielectric_reflectance(eta: f32) -> f64 {
-    let n = 2000;
-    let mut s = 0.0f64;
-    for i in 0..n {
-        let mu = (i as f64 + 0.5) / n as f64;
-        s += brdf::fresnel::dielectric(mu as f32, eta) as f64 * mu;
-    }
-    2.0 * s / n as f64
-}
-
 /// Fails unless property `name` is absent or equal to `expected` (a value gonio has no
 /// counterpart for).
 fn only_default(ctx: &Ctx, p: &Plugin, name: &str, ok: impl Fn(&Val) -> bool, why: &str) -> Result<(), XmlError> {
@@ -300,24 +281,28 @@ pub fn load(ctx: &Ctx, node: Node, named: &Named) -> Result<LoadedBsdf, XmlError
                 names.extend(["distribution", "alpha", "sample_visible"]);
             }
             p.allow(ctx, &names)?;
-            only_default(ctx, &p, "specular_reflectance", is_one, "only 1 is supported")?;
-            only_default(ctx, &p, "nonlinear", |v| *v == Val::Bool(false), "only false is supported")?;
             p.bool(ctx, "sample_visible", true)?;
-            let eta = (ior(ctx, &p, "int_ior", 1.49)? / ior(ctx, &p, "ext_ior", 1.000277)?) as f32;
-            let base = p.rgb(ctx, "diffuse_reflectance", radiometry::Rgb::splat(0.5))?;
-            let d = base * (1.0 - mean_dielectric_reflectance(eta)) as f32;
-            let mut args = if rough {
-                roughness_args(ctx, &p)?
-            } else {
-                vec![
-                    arg("alpha", brdf::microfacet_brdf::ALPHA_MIN.to_string(), None),
-                    arg("shadowing", "smith-separable", None),
-                ]
-            };
-            args.push(arg("fresnel", "dielectric", None));
-            args.push(arg("eta", eta.to_string(), Some("int_ior")));
-            args.push(arg("diffuse", format!("{},{},{}", d.0[0], d.0[1], d.0[2]), Some("diffuse_reflectance")));
-            build(ctx, &p, "microfacet", &args)
+            let mut args = vec![
+                arg("int_ior", ior(ctx, &p, "int_ior", 1.49)?.to_string(), Some("int_ior")),
+                arg("ext_ior", ior(ctx, &p, "ext_ior", 1.000277)?.to_string(), Some("ext_ior")),
+                arg(
+                    "diffuse_reflectance",
+                    rgb_text(ctx, &p, "diffuse_reflectance", "0.5")?,
+                    Some("diffuse_reflectance"),
+                ),
+                arg(
+                    "specular_reflectance",
+                    rgb_text(ctx, &p, "specular_reflectance", "1")?,
+                    Some("specular_reflectance"),
+                ),
+                arg("nonlinear", p.bool(ctx, "nonlinear", false)?.to_string(), Some("nonlinear")),
+            ];
+            if rough {
+                let dist = p.string(ctx, "distribution")?.unwrap_or("beckmann");
+                args.push(arg("distribution", dist, Some("distribution")));
+                args.push(arg("alpha", p.float(ctx, "alpha", 0.1)?.to_string(), Some("alpha")));
+            }
+            build(ctx, &p, kind, &args)
         }
         t if TRANSMISSIVE.contains(&t) => Err(p.err(
             ctx,
