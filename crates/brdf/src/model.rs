@@ -91,15 +91,9 @@ pub fn same_upper_hemisphere(wi: Vec3, wo: Vec3) -> bool {
     wi.z > 0.0 && wo.z > 0.0
 }
 
-/// Completes a half-vector sample: reflects `wo` about the sampled facet normal `h`, and takes
-/// the pdf and weight from the model's own `pdf` and `eval` at the returned `wi`, so that the
-/// three agree exactly. `None` when `h` faces away from `wo` or `wi` falls below the surface.
-pub fn reflect_about_half_vector(brdf: &impl Brdf, wo: Vec3, h: Vec3) -> Option<BrdfSample> {
-    let wo_h = wo.dot(h);
-    if wo_h <= 0.0 {
-        return None;
-    }
-    let wi = (2.0 * wo_h * h - wo).normalize();
+/// Completes a sample of `wi`: the pdf and weight come from the model's own `pdf` and `eval`,
+/// so that the three agree exactly. `None` when `wi` is below the surface or has no density.
+pub fn sample_from_pdf(brdf: &impl Brdf, wi: Vec3, wo: Vec3) -> Option<BrdfSample> {
     if wi.z <= 0.0 {
         return None;
     }
@@ -109,4 +103,14 @@ pub fn reflect_about_half_vector(brdf: &impl Brdf, wo: Vec3, h: Vec3) -> Option<
     }
     let weight = brdf.eval(wi, wo) * (wi.z / pdf);
     weight.is_finite().then_some(BrdfSample { wi, pdf, weight, delta: false })
+}
+
+/// Completes a half-vector sample: reflects `wo` about the sampled facet normal `h` and takes
+/// pdf and weight from the model (`sample_from_pdf`). `None` when `h` faces away from `wo`.
+pub fn reflect_about_half_vector(brdf: &impl Brdf, wo: Vec3, h: Vec3) -> Option<BrdfSample> {
+    let wo_h = wo.dot(h);
+    if wo_h <= 0.0 {
+        return None;
+    }
+    sample_from_pdf(brdf, (2.0 * wo_h * h - wo).normalize(), wo)
 }

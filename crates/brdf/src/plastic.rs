@@ -36,7 +36,7 @@
 
 use crate::fresnel;
 use crate::microfacet::{Distribution, Ndf};
-use crate::model::{reflect, reflect_z, same_upper_hemisphere, Brdf, BrdfSample, Claims};
+use crate::model::{reflect, reflect_z, same_upper_hemisphere, sample_from_pdf, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSpec, Params};
 use crate::registry::ModelSpec;
 use crate::roughness::ALPHA_MIN;
@@ -320,15 +320,7 @@ impl Brdf for RoughPlastic {
         } else {
             cosine_hemisphere(u)
         };
-        if wi.z <= 0.0 {
-            return None;
-        }
-        let pdf = self.pdf(wi, wo);
-        if !(pdf > 0.0 && pdf.is_finite()) {
-            return None;
-        }
-        let weight = self.eval(wi, wo) * (wi.z / pdf);
-        weight.is_finite().then_some(BrdfSample { wi, pdf, weight, delta: false })
+        sample_from_pdf(self, wi, wo)
     }
 
     fn claims(&self) -> Claims {
@@ -401,15 +393,7 @@ impl Brdf for Plastic {
             return Some(BrdfSample { wi: reflect_z(wo), pdf: p, weight, delta: true });
         }
         let wi = cosine_hemisphere(u);
-        if wi.z <= 0.0 {
-            return None;
-        }
-        let pdf = self.pdf(wi, wo);
-        if !(pdf > 0.0 && pdf.is_finite()) {
-            return None;
-        }
-        let weight = self.eval(wi, wo) * (wi.z / pdf);
-        weight.is_finite().then_some(BrdfSample { wi, pdf, weight, delta: false })
+        sample_from_pdf(self, wi, wo)
     }
 
     fn claims(&self) -> Claims {

@@ -4,6 +4,7 @@
 
 use super::model_arg;
 use crate::cli::{MeasureArgs, UsageError};
+use crate::modelarg::ModelArg;
 use crate::output::write_atomic;
 use anyhow::{bail, Result};
 use brdf::measured::merl::{MerlTable, FILE_BYTES};
@@ -44,14 +45,7 @@ pub fn run(args: &MeasureArgs, model_params: &[(String, String)]) -> Result<()> 
     let name = args.model.as_deref().ok_or_else(|| UsageError("give a MODEL or --microsurface".into()))?;
     let m = model_arg(name, model_params, &args.param)?;
     // Files the model reads are inputs: the output must never replace one.
-    let inputs: Vec<PathBuf> = m
-        .resolved()?
-        .iter()
-        .filter_map(|(_, v)| match v {
-            Value::Path(p) if !p.is_empty() => Some(PathBuf::from(p)),
-            _ => None,
-        })
-        .collect();
+    let inputs = input_files(&m)?;
     let brdf = m.build()?;
     let start = Instant::now();
     match kind {
@@ -145,14 +139,7 @@ fn run_microsurface(args: &MeasureArgs, model_params: &[(String, String)], kind:
         }
         Some(name) => {
             let m = model_arg(name, model_params, &args.param)?;
-            let inputs: Vec<PathBuf> = m
-                .resolved()?
-                .iter()
-                .filter_map(|(_, v)| match v {
-                    Value::Path(p) if !p.is_empty() => Some(PathBuf::from(p)),
-                    _ => None,
-                })
-                .collect();
+            let inputs = input_files(&m)?;
             (Facet::Model(m.build()?), format!("{} facets", m.label()), inputs)
         }
     };
@@ -193,4 +180,15 @@ fn run_microsurface(args: &MeasureArgs, model_params: &[(String, String)], kind:
         mean(&|b| b.mean_bounces)
     );
     Ok(())
+}
+
+/// The files a model reads (its non-empty path parameters): inputs the output must never replace.
+fn input_files(m: &ModelArg) -> Result<Vec<PathBuf>> {
+    Ok(m.resolved()?
+        .iter()
+        .filter_map(|(_, v)| match v {
+            Value::Path(p) if !p.is_empty() => Some(PathBuf::from(p)),
+            _ => None,
+        })
+        .collect())
 }
