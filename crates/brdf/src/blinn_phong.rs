@@ -30,6 +30,7 @@
 use crate::combine;
 use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSpec, Params};
+use crate::phong::lobe_params;
 use crate::phong::{cos_power_hemisphere, RAW_COS_FLOOR};
 use crate::registry::ModelSpec;
 use radiometry::{Rgb, Vec2, Vec3};
@@ -148,24 +149,12 @@ impl Brdf for BlinnPhong {
     }
 }
 
-fn params_for(form: BlinnPhongForm) -> Vec<ParamSpec> {
-    let ks_max = match form {
-        BlinnPhongForm::Raw => 10.0,
-        BlinnPhongForm::Modified => 1.0,
-    };
-    vec![
-        ParamSpec::rgb("ks", 0.0, ks_max, 0.5, "specular coefficient k_s"),
-        ParamSpec::float("ke", 0.0, 10000.0, 20.0, "Blinn-Phong exponent k_e on N·H: larger is shinier"),
-        combine::diffuse_param(),
-    ]
-}
-
 fn raw_params() -> Vec<ParamSpec> {
-    params_for(BlinnPhongForm::Raw)
+    lobe_params(true, "Blinn-Phong exponent k_e on N·H: larger is shinier")
 }
 
 fn modified_params() -> Vec<ParamSpec> {
-    params_for(BlinnPhongForm::Modified)
+    lobe_params(false, "Blinn-Phong exponent k_e on N·H: larger is shinier")
 }
 
 fn build_form(p: &Params, form: BlinnPhongForm) -> Result<Box<dyn Brdf>, ParamError> {

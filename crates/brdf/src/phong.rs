@@ -148,24 +148,23 @@ impl Brdf for Phong {
     }
 }
 
-fn params_for(form: PhongForm) -> Vec<ParamSpec> {
-    let ks_max = match form {
-        PhongForm::Raw => 10.0,
-        PhongForm::Modified => 1.0,
-    };
+/// The parameters of a cosine-power lobe: `ks` (up to 10 in the lecture's raw form, whose
+/// albedo is unbounded anyway; up to 1 when normalised), the exponent `ke`, and `diffuse`.
+pub(crate) fn lobe_params(raw: bool, ke_doc: &'static str) -> Vec<ParamSpec> {
+    let ks_max = if raw { 10.0 } else { 1.0 };
     vec![
         ParamSpec::rgb("ks", 0.0, ks_max, 0.5, "specular coefficient k_s"),
-        ParamSpec::float("ke", 0.0, 10000.0, 20.0, "Phong exponent k_e: larger is shinier"),
+        ParamSpec::float("ke", 0.0, 10000.0, 20.0, ke_doc),
         combine::diffuse_param(),
     ]
 }
 
 fn raw_params() -> Vec<ParamSpec> {
-    params_for(PhongForm::Raw)
+    lobe_params(true, "Phong exponent k_e: larger is shinier")
 }
 
 fn modified_params() -> Vec<ParamSpec> {
-    params_for(PhongForm::Modified)
+    lobe_params(false, "Phong exponent k_e: larger is shinier")
 }
 
 fn build_form(p: &Params, form: PhongForm) -> Result<Box<dyn Brdf>, ParamError> {
