@@ -144,6 +144,16 @@ fn coat_tables(dist: &Distribution, beckmann: bool, alpha: f32, eta: f32) -> ([f
     (t, (2.0 * r_mean) as f32)
 }
 
+/// What a coated model claims: always reciprocal and isotropic; energy conserving while the coat
+/// tint and the base's albedo bound `energy_bound` stay within 1.
+fn coat_claims(specular: Rgb, energy_bound: f32) -> Claims {
+    Claims {
+        reciprocal: true,
+        energy_conserving: specular.max_channel() <= 1.0 && energy_bound <= 1.0,
+        isotropic: true,
+    }
+}
+
 /// Linear interpolation in the table at cosine `mu` ∈ [0, 1] (Mitsuba's `lerp_gather`).
 #[inline]
 fn lerp_table(table: &[f32; TABLE_SIZE], mu: f32) -> f32 {
@@ -324,11 +334,7 @@ impl Brdf for RoughPlastic {
     }
 
     fn claims(&self) -> Claims {
-        Claims {
-            reciprocal: true,
-            energy_conserving: self.specular.max_channel() <= 1.0 && self.energy_bound <= 1.0,
-            isotropic: true,
-        }
+        coat_claims(self.specular, self.energy_bound)
     }
 }
 
@@ -397,11 +403,7 @@ impl Brdf for Plastic {
     }
 
     fn claims(&self) -> Claims {
-        Claims {
-            reciprocal: true,
-            energy_conserving: self.specular.max_channel() <= 1.0 && self.energy_bound <= 1.0,
-            isotropic: true,
-        }
+        coat_claims(self.specular, self.energy_bound)
     }
 
     fn has_delta(&self) -> bool {

@@ -12,6 +12,15 @@ fn finding(r: &Report, p: Property) -> &Finding {
     r.findings.iter().find(|f| f.property == p).expect("every property is reported")
 }
 
+/// The density of `cosine_sample` with `pdf_scale` 1.
+fn cosine_pdf(wi: Vec3, wo: Vec3) -> f32 {
+    if same_upper_hemisphere(wi, wo) {
+        cosine_hemisphere_pdf(wi.z)
+    } else {
+        0.0
+    }
+}
+
 /// Cosine-weighted sampling of any ρ, with the weight ρ cos θi / pdf computed from `eval`.
 fn cosine_sample(b: &dyn Brdf, wo: Vec3, u: Vec2, pdf_scale: f32) -> Option<BrdfSample> {
     if wo.z <= 0.0 {
@@ -69,11 +78,7 @@ impl Brdf for RawPhong {
         Rgb::splat(reflect_z(wi).dot(wo).max(0.0).powi(2) / wi.z)
     }
     fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
-        if same_upper_hemisphere(wi, wo) {
-            cosine_hemisphere_pdf(wi.z)
-        } else {
-            0.0
-        }
+        cosine_pdf(wi, wo)
     }
     fn sample(&self, wo: Vec3, _uc: f32, u: Vec2) -> Option<BrdfSample> {
         cosine_sample(self, wo, u, 1.0)
@@ -95,11 +100,7 @@ impl Brdf for NanAtGrazing {
         Rgb::splat(0.5 * FRAC_1_PI * (wi.z * wo.z) / (wi.z * wo.z))
     }
     fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
-        if same_upper_hemisphere(wi, wo) {
-            cosine_hemisphere_pdf(wi.z)
-        } else {
-            0.0
-        }
+        cosine_pdf(wi, wo)
     }
     fn sample(&self, wo: Vec3, _uc: f32, u: Vec2) -> Option<BrdfSample> {
         cosine_sample(self, wo, u, 1.0)
@@ -122,11 +123,7 @@ impl Brdf for Anisotropic {
         Rgb::splat(0.5 * FRAC_1_PI * (1.0 + 0.25 * (stretch(wi) + stretch(wo))))
     }
     fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
-        if same_upper_hemisphere(wi, wo) {
-            cosine_hemisphere_pdf(wi.z)
-        } else {
-            0.0
-        }
+        cosine_pdf(wi, wo)
     }
     fn sample(&self, wo: Vec3, _uc: f32, u: Vec2) -> Option<BrdfSample> {
         cosine_sample(self, wo, u, 1.0)
@@ -185,26 +182,9 @@ impl Brdf for PhongLobe {
     }
 }
 
-/// An ideal mirror: every sample is a delta.
-#[derive(Debug)]
-struct Mirror;
-
-impl Brdf for Mirror {
-    fn eval(&self, _wi: Vec3, _wo: Vec3) -> Rgb {
-        Rgb::ZERO
-    }
-    fn pdf(&self, _wi: Vec3, _wo: Vec3) -> f32 {
-        0.0
-    }
-    fn sample(&self, wo: Vec3, _uc: f32, _u: Vec2) -> Option<BrdfSample> {
-        (wo.z > 0.0).then(|| BrdfSample { wi: reflect_z(wo), pdf: 1.0, weight: Rgb::splat(0.9), delta: true })
-    }
-    fn claims(&self) -> Claims {
-        Claims::PLAUSIBLE
-    }
-    fn has_delta(&self) -> bool {
-        true
-    }
+/// The crate's ideal mirror with reflectance 0.9: every sample is a delta.
+fn mirror() -> crate::mirror::Mirror {
+    crate::mirror::Mirror { reflectance: Rgb::splat(0.9), fresnel: crate::fresnel::Fresnel::None }
 }
 
 #[test]
@@ -318,12 +298,12 @@ fn unclaimed_failures_do_not_fail_the_report() {
 
 #[test]
 fn a_pure_delta_lobe_has_no_chi_square_test() {
-    let r = check(&Mirror, &Config::default());
+    let r = check(&mirror(), &Config::default());
     let c = finding(&r, Property::ChiSquare);
     assert!(c.passed && c.detail == "n/a (delta lobe)", "{r}");
     assert!(r.ok(), "{r}");
     // The delta lobe's weight is its albedo.
-    let (m, _) = albedo(&Mirror, Vec3::new(0.6, 0.0, 0.8), 100, 1);
+    let (m, _) = albedo(&mirror(), Vec3::new(0.6, 0.0, 0.8), 100, 1);
     assert!((m.0[0] - 0.9).abs() < 1e-6);
 }
 
