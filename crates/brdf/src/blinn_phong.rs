@@ -136,7 +136,7 @@ impl Brdf for BlinnPhong {
             BlinnPhongForm::Raw => self.ks * (8.0 * PI * wo_h / (self.ke + 1.0) * (wi.z / wi.z.max(RAW_COS_FLOOR))),
             BlinnPhongForm::Modified => self.ks * ((self.ke + 8.0) / (self.ke + 1.0) * wo_h * wi.z),
         };
-        Some(BrdfSample { wi, pdf, weight, delta: false })
+        Some(BrdfSample { wi, pdf, weight, delta: false, eta: 1.0 })
     }
 
     fn claims(&self) -> Claims {

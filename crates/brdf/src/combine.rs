@@ -77,7 +77,7 @@ impl Brdf for DiffuseGlossy {
             return None;
         }
         let weight = self.eval(s.wi, wo) * (s.wi.z / pdf);
-        Some(BrdfSample { wi: s.wi, pdf, weight, delta: false })
+        Some(BrdfSample { wi: s.wi, pdf, weight, delta: false, eta: 1.0 })
     }
 
     fn claims(&self) -> Claims {

@@ -43,7 +43,7 @@ impl Brdf for Lambert {
         if wi.z <= 0.0 {
             return None;
         }
-        Some(BrdfSample { wi, pdf: cosine_hemisphere_pdf(wi.z), weight: self.albedo, delta: false })
+        Some(BrdfSample { wi, pdf: cosine_hemisphere_pdf(wi.z), weight: self.albedo, delta: false, eta: 1.0 })
     }
 
     fn claims(&self) -> Claims {

@@ -1,5 +1,5 @@
-//! Reflection models in a z-up local shading frame, Fresnel terms, microfacet
-//! distributions, and the property checks every model is held to.
+//! Reflection and transmission models in a z-up local shading frame, Fresnel terms,
+//! microfacet distributions, and the property checks every model is held to.
 //!
 //! Conventions: `wi` (towards the light) and `wo` (towards the viewer) both point away
 //! from the surface; `eval` returns ρ in 1/sr without the cosine; `pdf` is in solid angle.
@@ -8,6 +8,7 @@ pub mod blinn_phong;
 pub mod check;
 pub mod combine;
 pub mod cook_torrance;
+pub mod dielectric;
 pub mod fit;
 pub mod fresnel;
 pub mod lambert;
@@ -20,7 +21,9 @@ pub mod params;
 pub mod phong;
 pub mod plastic;
 pub mod registry;
+pub mod rough_dielectric;
 pub mod roughness;
+pub mod two_sided;
 pub mod ward;
 
 pub use model::{Brdf, BrdfSample, Claims};

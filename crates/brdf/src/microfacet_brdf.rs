@@ -14,8 +14,8 @@
 
 use crate::combine;
 use crate::fresnel::{self, Fresnel};
-use crate::microfacet::{Distribution, Ndf, Shadowing};
-use crate::model::{reflect_about_half_vector, same_upper_hemisphere, Brdf, BrdfSample, Claims};
+use crate::microfacet::{g1_from_lambda, Distribution, Ndf, Shadowing};
+use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSpec, Params};
 use crate::registry::ModelSpec;
 use crate::roughness;
@@ -45,6 +45,47 @@ impl MicrofacetBrdf {
         }
         Some((h, 0.5 * (wi.dot(h) + wo.dot(h))))
     }
+
+    /// ρ from the shared terms: D(h), Λ(wi), Λ(wo) and the facet cosine.
+    #[inline]
+    fn rho(&self, wi: Vec3, wo: Vec3, cos_d: f32, d: f32, lambda_i: f32, lambda_o: f32) -> Rgb {
+        let g = self.shadowing.from_lambdas(lambda_i, lambda_o);
+        let denom = 4.0 * (wi.z * wo.z);
+        // G vanishes at the horizon faster than the cosines; when even their product underflows
+        // the contribution is below f32 resolution.
+        if g <= 0.0 || denom <= 0.0 {
+            return Rgb::ZERO;
+        }
+        let v = self.fresnel.eval(cos_d) * (d * g / denom);
+        if v.is_finite() {
+            v
+        } else {
+            Rgb::ZERO
+        }
+    }
+
+    /// The sampling density from the shared terms.
+    #[inline]
+    fn density(wo: Vec3, cos_d: f32, d: f32, lambda_o: f32) -> f32 {
+        if cos_d <= 0.0 {
+            return 0.0;
+        }
+        // D_wo(h)/(4 wo·h) = G1(wo) D(h)/(4 cos θo): the wo·h cancels, which spares the
+        // rounding of wo·h near grazing.
+        g1_from_lambda(lambda_o) * d / (4.0 * wo.z)
+    }
+
+    /// `eval` and `pdf` together, sharing h, D(h) and Λ(wo): bit for bit what each returns.
+    pub fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
+        if !same_upper_hemisphere(wi, wo) {
+            return (Rgb::ZERO, 0.0);
+        }
+        let Some((h, cos_d)) = Self::half(wi, wo) else { return (Rgb::ZERO, 0.0) };
+        let dist = &self.distribution;
+        let (d, lambda_o) = (dist.d(h), dist.lambda(wo));
+        let rho = self.rho(wi, wo, cos_d, d, dist.lambda(wi), lambda_o);
+        (rho, Self::density(wo, cos_d, d, lambda_o))
+    }
 }
 
 impl Brdf for MicrofacetBrdf {
@@ -53,19 +94,8 @@ impl Brdf for MicrofacetBrdf {
             return Rgb::ZERO;
         }
         let Some((h, cos_d)) = Self::half(wi, wo) else { return Rgb::ZERO };
-        let g = self.distribution.g(self.shadowing, wi, wo);
-        let denom = 4.0 * (wi.z * wo.z);
-        // G vanishes at the horizon faster than the cosines; when even their product underflows
-        // the contribution is below f32 resolution.
-        if g <= 0.0 || denom <= 0.0 {
-            return Rgb::ZERO;
-        }
-        let v = self.fresnel.eval(cos_d) * (self.distribution.d(h) * g / denom);
-        if v.is_finite() {
-            v
-        } else {
-            Rgb::ZERO
-        }
+        let dist = &self.distribution;
+        self.rho(wi, wo, cos_d, dist.d(h), dist.lambda(wi), dist.lambda(wo))
     }
 
     fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
@@ -76,21 +106,37 @@ impl Brdf for MicrofacetBrdf {
         if cos_d <= 0.0 {
             return 0.0;
         }
-        // D_wo(h)/(4 wo·h) = G1(wo) D(h)/(4 cos θo): the wo·h cancels, which spares the
-        // rounding of wo·h near grazing.
-        self.distribution.g1(wo) * self.distribution.d(h) / (4.0 * wo.z)
+        Self::density(wo, cos_d, self.distribution.d(h), self.distribution.lambda(wo))
     }
 
     fn sample(&self, wo: Vec3, _uc: f32, u: Vec2) -> Option<BrdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
-        reflect_about_half_vector(self, wo, self.distribution.sample_visible(wo, u))
+        let h = self.distribution.sample_visible(wo, u);
+        let wo_h = wo.dot(h);
+        if wo_h <= 0.0 {
+            return None;
+        }
+        // As `reflect_about_half_vector`, with eval and pdf in one pass.
+        let wi = (2.0 * wo_h * h - wo).normalize();
+        sample_from_eval_pdf(wi, self.eval_pdf(wi, wo))
     }
 
     fn claims(&self) -> Claims {
         Claims { reciprocal: true, energy_conserving: true, isotropic: self.distribution.is_isotropic() }
     }
+}
+
+/// Completes a sample of `wi` from the model's own ρ and pdf there, with the same arithmetic as
+/// `sample_from_pdf`: `None` below the surface or without density.
+#[inline]
+pub(crate) fn sample_from_eval_pdf(wi: Vec3, (rho, pdf): (Rgb, f32)) -> Option<BrdfSample> {
+    if wi.z <= 0.0 || !(pdf > 0.0 && pdf.is_finite()) {
+        return None;
+    }
+    let weight = rho * (wi.z / pdf);
+    weight.is_finite().then_some(BrdfSample::reflected(wi, pdf, weight, false))
 }
 
 /// The parameters; `with_distribution` false for the presets that fix it.
@@ -308,6 +354,37 @@ pub(crate) mod tests {
                 }
                 assert_eq!(m.eval(Vec3::Z, Vec3::new(0.0, 0.6, -0.8)), Rgb::ZERO);
                 assert!(m.sample(Vec3::new(0.0, 0.6, -0.8), 0.5, Vec2::splat(0.5)).is_none());
+            }
+        }
+    }
+
+    #[test]
+    fn shared_terms_give_bit_identical_results() {
+        // eval_pdf and sample share work with eval and pdf; they must not change a bit: the
+        // sample equals the generic completion from the model's own pdf and eval.
+        let gold = Fresnel::Conductor { eta: fresnel::AU.eta, k: fresnel::AU.k };
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(11);
+        for d in [Distribution::Ggx(Ggx::new(0.3, 0.05)), Distribution::Beckmann(Beckmann::new(0.1, 0.4))] {
+            for shadowing in [Shadowing::Separable, Shadowing::Correlated] {
+                let m = model(d, shadowing, gold);
+                for _ in 0..20_000 {
+                    let mut w = || {
+                        let z: f32 = rng.gen::<f32>() * 2.0 - 0.2;
+                        radiometry::spherical_direction(
+                            z.clamp(-1.0, 1.0).acos(),
+                            rng.gen::<f32>() * std::f32::consts::TAU,
+                        )
+                    };
+                    let (wi, wo) = (w(), w());
+                    assert_eq!(m.eval_pdf(wi, wo), (m.eval(wi, wo), m.pdf(wi, wo)), "{wi} {wo}");
+                    let u = Vec2::new(rng.gen(), rng.gen());
+                    let generic = if wo.z > 0.0 {
+                        crate::model::reflect_about_half_vector(&m, wo, m.distribution.sample_visible(wo, u))
+                    } else {
+                        None
+                    };
+                    assert_eq!(m.sample(wo, 0.5, u), generic, "{wo} {u}");
+                }
             }
         }
     }

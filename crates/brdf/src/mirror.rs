@@ -38,7 +38,7 @@ impl Brdf for Mirror {
             return None;
         }
         let weight = self.reflectance * self.fresnel.eval(wo.z);
-        Some(BrdfSample { wi: reflect_z(wo), pdf: 1.0, weight, delta: true })
+        Some(BrdfSample { wi: reflect_z(wo), pdf: 1.0, weight, delta: true, eta: 1.0 })
     }
 
     fn claims(&self) -> Claims {

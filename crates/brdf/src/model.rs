@@ -1,4 +1,13 @@
-//! The `Brdf` trait every reflection model implements, in a z-up local frame.
+//! The `Brdf` trait every scattering model implements, in a z-up local frame.
+//!
+//! Most models only reflect: both directions above the surface (z > 0). A model may also
+//! scatter on its back side (`back_side`: a two-sided wrapper, a dielectric) or transmit
+//! (`transmits`: `wi` and `wo` on opposite sides, e.g. refraction into glass). For those,
+//! "cos θ" in `eval`'s and `sample`'s conventions is |w.z|, and a sample across the surface
+//! carries the relative index η = n(wi side) / n(wo side) it crossed, since radiance scales
+//! by 1/η² across an interface (Veach 1997, §5.2): ρ(wi, wo) / n_wo² = ρ(wo, wi) / n_wi²
+//! replaces Helmholtz reciprocity, and a path tracer undoes the scaling (multiplies by η²)
+//! before it judges a path's weight for Russian roulette, as Mitsuba 3 does.
 
 use radiometry::{Rgb, Vec2, Vec3};
 
@@ -9,10 +18,20 @@ pub struct BrdfSample {
     pub wi: Vec3,
     /// Its density in solid angle; for a delta lobe, the probability of choosing that lobe.
     pub pdf: f32,
-    /// ρ(wi, wo) · cos θi / pdf.
+    /// ρ(wi, wo) · |cos θi| / pdf.
     pub weight: Rgb,
     /// True when `wi` came from a delta (perfectly specular) lobe.
     pub delta: bool,
+    /// Relative index n(wi side) / n(wo side) crossed: 1 for a reflection.
+    pub eta: f32,
+}
+
+impl BrdfSample {
+    /// A reflected sample (η = 1).
+    #[inline]
+    pub fn reflected(wi: Vec3, pdf: f32, weight: Rgb, delta: bool) -> Self {
+        BrdfSample { wi, pdf, weight, delta, eta: 1.0 }
+    }
 }
 
 /// The properties a model claims for its current parameters; `check` measures them all
@@ -32,11 +51,13 @@ impl Claims {
     pub const PLAUSIBLE: Claims = Claims { reciprocal: true, energy_conserving: true, isotropic: true };
 }
 
-/// A reflection model. `wi` points towards the light, `wo` towards the viewer; both
-/// point away from the surface and are unit vectors in the local frame (normal = +z).
+/// A scattering model (the name stays `Brdf`: most models only reflect). `wi` points towards
+/// the light, `wo` towards the viewer; both point away from the surface and are unit vectors
+/// in the local frame (normal = +z). See the module doc for models that transmit.
 pub trait Brdf: Send + Sync + std::fmt::Debug {
-    /// ρ(wi, wo) in 1/sr, without the cosine; zero when either direction is below the
-    /// surface, and zero for delta lobes.
+    /// ρ(wi, wo) in 1/sr, without the cosine; zero for delta lobes. A reflection-only model
+    /// returns zero when either direction is below the surface; one that `transmits` may
+    /// return non-zero for directions on opposite sides, one with a `back_side` for both below.
     fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb;
 
     /// Solid-angle density with which `sample(wo, ..)` returns `wi` (delta lobes excluded).
@@ -52,6 +73,23 @@ pub trait Brdf: Send + Sync + std::fmt::Debug {
     /// True when the model has a delta lobe (an ideal mirror component).
     fn has_delta(&self) -> bool {
         false
+    }
+
+    /// True when light may cross the surface: `wi` and `wo` on opposite sides.
+    fn transmits(&self) -> bool {
+        false
+    }
+
+    /// True when the model scatters light arriving on its back side too (`wo.z < 0`); a
+    /// renderer may skip a one-sided model's back faces.
+    fn back_side(&self) -> bool {
+        self.transmits()
+    }
+
+    /// Index of the medium below the surface over the one above, n(z < 0) / n(z > 0); 1 for
+    /// a model that does not transmit.
+    fn eta(&self) -> f32 {
+        1.0
     }
 }
 
@@ -70,6 +108,15 @@ impl<T: Brdf + ?Sized> Brdf for Box<T> {
     }
     fn has_delta(&self) -> bool {
         (**self).has_delta()
+    }
+    fn transmits(&self) -> bool {
+        (**self).transmits()
+    }
+    fn back_side(&self) -> bool {
+        (**self).back_side()
+    }
+    fn eta(&self) -> f32 {
+        (**self).eta()
     }
 }
 
@@ -102,7 +149,7 @@ pub fn sample_from_pdf(brdf: &impl Brdf, wi: Vec3, wo: Vec3) -> Option<BrdfSampl
         return None;
     }
     let weight = brdf.eval(wi, wo) * (wi.z / pdf);
-    weight.is_finite().then_some(BrdfSample { wi, pdf, weight, delta: false })
+    weight.is_finite().then_some(BrdfSample::reflected(wi, pdf, weight, false))
 }
 
 /// Completes a half-vector sample: reflects `wo` about the sampled facet normal `h` and takes

@@ -135,7 +135,7 @@ impl Brdf for Phong {
             PhongForm::Raw => self.ks * (TAU / (self.ke + 1.0) * (wi.z / wi.z.max(RAW_COS_FLOOR))),
             PhongForm::Modified => self.ks * ((self.ke + 2.0) / (self.ke + 1.0) * wi.z),
         };
-        Some(BrdfSample { wi, pdf, weight, delta: false })
+        Some(BrdfSample { wi, pdf, weight, delta: false, eta: 1.0 })
     }
 
     fn claims(&self) -> Claims {

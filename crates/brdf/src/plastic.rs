@@ -36,6 +36,7 @@
 
 use crate::fresnel;
 use crate::microfacet::{Distribution, Ndf};
+use crate::microfacet_brdf::sample_from_eval_pdf;
 use crate::model::{reflect, reflect_z, same_upper_hemisphere, sample_from_pdf, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSpec, Params};
 use crate::registry::ModelSpec;
@@ -269,12 +270,10 @@ impl RoughPlastic {
         self.internal_reflectance
     }
 
-    /// The coat lobe alone, k_s F D G / (4 cos θi cos θo).
-    fn coat(&self, wi: Vec3, wo: Vec3) -> Rgb {
-        let h = (wi + wo).normalize_or_zero();
-        if h.z <= 0.0 {
-            return Rgb::ZERO;
-        }
+    /// The coat lobe alone, k_s F D G / (4 cos θi cos θo), for h = (wi + wo)/|wi + wo| with
+    /// h.z > 0 and d = D(h).
+    #[inline]
+    fn coat(&self, wi: Vec3, wo: Vec3, h: Vec3, d: f32) -> Rgb {
         // Symmetric in wi and wo so that ρ is exactly reciprocal in f32.
         let cos_d = 0.5 * (wi.dot(h) + wo.dot(h));
         let g = smith_g1(self.beckmann, self.alpha, wi, h) * smith_g1(self.beckmann, self.alpha, wo, h);
@@ -282,12 +281,52 @@ impl RoughPlastic {
         if g <= 0.0 || denom <= 0.0 {
             return Rgb::ZERO;
         }
-        let v = fresnel::dielectric(cos_d, self.eta) * self.dist.d(h) * g / denom;
+        let v = fresnel::dielectric(cos_d, self.eta) * d * g / denom;
         if v.is_finite() {
             self.specular * v
         } else {
             Rgb::ZERO
         }
+    }
+
+    /// ρ given h, D(h) (when h.z > 0) and t(cos θo).
+    #[inline]
+    fn rho(&self, wi: Vec3, wo: Vec3, hd: Option<(Vec3, f32)>, t_o: f32) -> Rgb {
+        let coat = hd.map_or(Rgb::ZERO, |(h, d)| self.coat(wi, wo, h, d));
+        coat + self.base * (self.transmittance(wi.z) * t_o)
+    }
+
+    /// The sampling density given h, D(h) (when h.z > 0) and t(cos θo).
+    #[inline]
+    fn density(&self, wi: Vec3, wo: Vec3, hd: Option<(Vec3, f32)>, t_o: f32) -> f32 {
+        let p = coat_probability(self.weight, t_o);
+        // Visible normals reflected about h: G1(wo) D(h) / (4 cos θo), with our sampler's exact G1.
+        let coat = match hd {
+            Some((h, d)) if wo.dot(h) > 0.0 => self.dist.g1(wo) * d / (4.0 * wo.z),
+            _ => 0.0,
+        };
+        let v = p * coat + (1.0 - p) * cosine_hemisphere_pdf(wi.z);
+        if v.is_finite() {
+            v
+        } else {
+            0.0
+        }
+    }
+
+    /// The half vector and D there, when h.z > 0.
+    #[inline]
+    fn half(&self, wi: Vec3, wo: Vec3) -> Option<(Vec3, f32)> {
+        let h = (wi + wo).normalize_or_zero();
+        (h.z > 0.0).then(|| (h, self.dist.d(h)))
+    }
+
+    /// `eval` and `pdf` together, sharing h, D(h) and t(cos θo): bit for bit what each returns.
+    pub fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
+        if !same_upper_hemisphere(wi, wo) {
+            return (Rgb::ZERO, 0.0);
+        }
+        let (hd, t_o) = (self.half(wi, wo), self.transmittance(wo.z));
+        (self.rho(wi, wo, hd, t_o), self.density(wi, wo, hd, t_o))
     }
 }
 
@@ -296,24 +335,14 @@ impl Brdf for RoughPlastic {
         if !same_upper_hemisphere(wi, wo) {
             return Rgb::ZERO;
         }
-        let t = self.transmittance(wi.z) * self.transmittance(wo.z);
-        self.coat(wi, wo) + self.base * t
+        self.rho(wi, wo, self.half(wi, wo), self.transmittance(wo.z))
     }
 
     fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
         if !same_upper_hemisphere(wi, wo) {
             return 0.0;
         }
-        let p = coat_probability(self.weight, self.transmittance(wo.z));
-        let h = (wi + wo).normalize_or_zero();
-        // Visible normals reflected about h: G1(wo) D(h) / (4 cos θo), with our sampler's exact G1.
-        let coat = if h.z > 0.0 && wo.dot(h) > 0.0 { self.dist.g1(wo) * self.dist.d(h) / (4.0 * wo.z) } else { 0.0 };
-        let v = p * coat + (1.0 - p) * cosine_hemisphere_pdf(wi.z);
-        if v.is_finite() {
-            v
-        } else {
-            0.0
-        }
+        self.density(wi, wo, self.half(wi, wo), self.transmittance(wo.z))
     }
 
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample> {
@@ -330,7 +359,7 @@ impl Brdf for RoughPlastic {
         } else {
             cosine_hemisphere(u)
         };
-        sample_from_pdf(self, wi, wo)
+        sample_from_eval_pdf(wi, self.eval_pdf(wi, wo))
     }
 
     fn claims(&self) -> Claims {
@@ -396,7 +425,7 @@ impl Brdf for Plastic {
         let p = self.coat_probability(wo.z);
         if uc < p {
             let weight = self.specular * (fresnel::dielectric(wo.z, self.eta) / p);
-            return Some(BrdfSample { wi: reflect_z(wo), pdf: p, weight, delta: true });
+            return Some(BrdfSample { wi: reflect_z(wo), pdf: p, weight, delta: true, eta: 1.0 });
         }
         let wi = cosine_hemisphere(u);
         sample_from_pdf(self, wi, wo)
@@ -566,6 +595,31 @@ mod tests {
                     "{} {args:?} at {a},{b} / {c},{d}: {got} vs Mitsuba {w}",
                     spec.name
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn shared_terms_give_bit_identical_results() {
+        // eval_pdf and sample share h, D(h) and t(cos θo) with eval and pdf: not a bit may change,
+        // and a sample is the generic completion from the model's own pdf and eval.
+        let mut state = 7u64;
+        let mut next = || {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((state >> 40) as f32) / (1u64 << 24) as f32
+        };
+        for (dist, alpha) in [("ggx", 0.15f32), ("beckmann", 0.3)] {
+            let m = RoughPlastic::new(dist, alpha, 1.5, Rgb::new(0.7, 0.25, 0.08), Rgb::ONE, false).unwrap();
+            for _ in 0..20_000 {
+                let mut w = || {
+                    spherical_direction((next() * 2.0 - 0.2).clamp(-1.0, 1.0).acos(), next() * std::f32::consts::TAU)
+                };
+                let (wi, wo) = (w(), w());
+                assert_eq!(m.eval_pdf(wi, wo), (m.eval(wi, wo), m.pdf(wi, wo)), "{wi} {wo}");
+                let (uc, u) = (next(), Vec2::new(next(), next()));
+                if let Some(s) = m.sample(wo, uc, u) {
+                    assert_eq!(Some(s), sample_from_pdf(&m, s.wi, wo));
+                }
             }
         }
     }

@@ -61,6 +61,8 @@ pub fn models() -> &'static [ModelSpec] {
         crate::ward::SPEC,
         crate::plastic::ROUGH_SPEC,
         crate::plastic::SMOOTH_SPEC,
+        crate::dielectric::SPEC,
+        crate::rough_dielectric::SPEC,
         crate::measured::SPEC,
     ]
 }

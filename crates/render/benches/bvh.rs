@@ -4,13 +4,14 @@
 //! First a table: build times, then closest-hit Mrays/s for the same 1M rays through each
 //! hierarchy — camera rays of shared/bench/scenes/mesh.xml (512×512, 4 jittered samples per
 //! pixel) and random rays (origins uniform in the torus's box enlarged 10 %, directions
-//! uniform on the sphere) — on 1 and 2 rayon threads. Every hierarchy calls the same
-//! triangle test on the same triangle array (reordered to its leaf order), so the table
-//! compares hierarchies, not triangle tests. Before timing, the hit distances of a subset
-//! are checked to agree between the hierarchies.
+//! uniform on the sphere) — on 1 and 2 rayon threads. The first three rows call the same
+//! scalar triangle test, one triangle at a time, on the same triangle array (reordered to
+//! each leaf order), so they compare hierarchies, not triangle tests; the last row is what
+//! the renderer runs, `Scene::intersect_t`: our hierarchy with four triangles per test.
+//! Before timing, the hit distances of a subset are checked to agree between all rows.
 //!
-//! Then criterion runs for our BVH alone (camera and diffuse bounce rays, build), for
-//! tracking regressions. Skipped when the mesh is absent.
+//! Then criterion runs for the renderer's path alone (camera, diffuse bounce and shadow
+//! rays, build), for tracking regressions. Skipped when the mesh is absent.
 
 use criterion::{Criterion, Throughput};
 use glam::{Vec2, Vec3};
@@ -22,7 +23,7 @@ use radiometry::warp::{cosine_hemisphere, uniform_sphere};
 use rayon::prelude::*;
 use render::bvh::Bvh;
 use render::camera::{look_at, Camera, FovAxis};
-use render::ray::{spawn_ray, Ray};
+use render::ray::{spawn_ray, spawn_ray_to, Ray};
 use render::sampler::Sampler;
 use render::shape::mesh::intersect_triangle;
 use render::shape::{Aabb, Geometry, TriangleMesh};
@@ -68,14 +69,20 @@ impl Tri {
     }
 }
 
-/// The hierarchies under comparison, each with the triangles in its own leaf order.
+/// The hierarchies under comparison, each with the triangles in its own leaf order, and
+/// the renderer's scene.
 struct Contenders {
     ours: (Bvh, Vec<Tri>),
     bvh2: (obvhs::bvh2::Bvh2, Vec<Tri>),
     cwbvh: (obvhs::cwbvh::CwBvh, Vec<Tri>),
+    scene: Scene,
 }
 
-/// The closest-hit distance of `ray` through hierarchy `which` (0 ours, 1 obvhs BVH2, 2 CWBVH).
+/// Rows of the table, in [`NAMES`] order.
+const ROWS: usize = 4;
+
+/// The closest-hit distance of `ray` through row `which` (0 ours, 1 obvhs BVH2, 2 CWBVH,
+/// 3 the scene).
 #[inline]
 fn trace(c: &Contenders, which: usize, ray: &Ray) -> Option<f32> {
     trace_counted::<false>(c, which, ray, &Cell::new(0))
@@ -96,6 +103,7 @@ fn trace_counted<const COUNT: bool>(c: &Contenders, which: usize, ray: &Ray, tes
             let (bvh, tris) = &c.ours;
             bvh.closest(ray, |k, t_max| hit(&tris[k], t_max)).map(|h| h.1)
         }
+        3 => c.scene.intersect_t(ray).map(|h| h.1),
         _ => {
             // obvhs takes its own glam version's vectors; arrays bridge the two.
             let r = obvhs::ray::Ray::new(o.to_array().into(), d.to_array().into(), 0.0, ray.t_max);
@@ -113,7 +121,8 @@ fn trace_counted<const COUNT: bool>(c: &Contenders, which: usize, ray: &Ray, tes
     }
 }
 
-const NAMES: [&str; 3] = ["ours (binned SAH, BVH2)", "obvhs BVH2 (PLOC)", "obvhs CWBVH (8-wide)"];
+const NAMES: [&str; ROWS] =
+    ["ours (SAH, 4-wide)", "obvhs BVH2 (PLOC)", "obvhs CWBVH (8-wide)", "ours, 4 triangles/test"];
 
 fn timed<T>(f: impl FnOnce() -> T) -> (T, Duration) {
     let t = Instant::now();
@@ -134,6 +143,7 @@ fn build(mesh: &TriangleMesh) -> Contenders {
         let bounds: Vec<Aabb> = (0..mesh.len()).map(|i| mesh.triangle_bounds(i)).collect();
         Bvh::build(&bounds)
     });
+    let (scene, t_scene) = timed(|| torus_scene(mesh.clone()));
     let otris: Vec<Triangle> = (0..mesh.len())
         .map(|i| {
             let [a, b, c] = mesh.triangle(i);
@@ -148,8 +158,9 @@ fn build(mesh: &TriangleMesh) -> Contenders {
     println!("  {:<26} {:>8.1} ms  {:>7} nodes", NAMES[0], t_ours.as_secs_f64() * 1e3, ours.node_count());
     println!("  {:<26} {:>8.1} ms  {:>7} nodes", NAMES[1], t_bvh2.as_secs_f64() * 1e3, bvh2.nodes.len());
     println!("  {:<26} {:>8.1} ms  {:>7} nodes", NAMES[2], t_cw.as_secs_f64() * 1e3, cwbvh.nodes.len());
+    println!("  {:<26} {:>8.1} ms  (the whole scene, packs included)", NAMES[3], t_scene.as_secs_f64() * 1e3);
     let (t0, t1, t2) = (reorder(&ours.order), reorder(&bvh2.primitive_indices), reorder(&cwbvh.primitive_indices));
-    Contenders { ours: (ours, t0), bvh2: (bvh2, t1), cwbvh: (cwbvh, t2) }
+    Contenders { ours: (ours, t0), bvh2: (bvh2, t1), cwbvh: (cwbvh, t2), scene }
 }
 
 /// 512×512 pixels × [`CAMERA_SPP`] box-filtered jittered samples, per-pixel streams.
@@ -182,9 +193,9 @@ fn random_rays(bounds: Aabb, n: usize) -> Vec<Ray> {
 /// Checks every [`CHECK_STRIDE`]-th ray: the same hit or miss, distances within 1e-4 relative.
 fn check(c: &Contenders, name: &str, rays: &[Ray]) {
     let (mut n, mut hits, mut bad) = (0, 0, 0);
-    let tests = [Cell::new(0), Cell::new(0), Cell::new(0)];
+    let tests = [Cell::new(0), Cell::new(0), Cell::new(0), Cell::new(0)];
     for r in rays.iter().step_by(CHECK_STRIDE) {
-        let t: Vec<Option<f32>> = (0..3).map(|w| trace_counted::<true>(c, w, r, &tests[w])).collect();
+        let t: Vec<Option<f32>> = (0..ROWS).map(|w| trace_counted::<true>(c, w, r, &tests[w])).collect();
         n += 1;
         hits += t[0].is_some() as usize;
         let agree = |a: Option<f32>, b: Option<f32>| match (a, b) {
@@ -192,7 +203,7 @@ fn check(c: &Contenders, name: &str, rays: &[Ray]) {
             (Some(a), Some(b)) => (a - b).abs() <= 1e-4 * a.abs().max(b.abs()),
             _ => false,
         };
-        if !(agree(t[0], t[1]) && agree(t[0], t[2])) {
+        if !(agree(t[0], t[1]) && agree(t[0], t[2]) && t[3] == t[0]) {
             bad += 1;
             if bad <= 5 {
                 eprintln!("  disagreement on {r:?}: {t:?}");
@@ -210,8 +221,8 @@ fn check(c: &Contenders, name: &str, rays: &[Ray]) {
 /// Best-of-[`REPS`] Mrays/s for tracing `rays` through each hierarchy on `pool`. The
 /// hierarchies take turns within each repetition, so a load spike from other processes
 /// cannot favour one of them.
-fn mrays(pool: &rayon::ThreadPool, c: &Contenders, rays: &[Ray]) -> [f64; 3] {
-    let mut best = [Duration::MAX; 3];
+fn mrays(pool: &rayon::ThreadPool, c: &Contenders, rays: &[Ray]) -> [f64; ROWS] {
+    let mut best = [Duration::MAX; ROWS];
     for _ in 0..REPS {
         for (which, b) in best.iter_mut().enumerate() {
             let (hits, dt) = timed(|| {
@@ -237,7 +248,7 @@ fn comparison(mesh: &TriangleMesh) {
     let threads = [1, 2];
     let pools: Vec<_> =
         threads.iter().map(|&t| rayon::ThreadPoolBuilder::new().num_threads(t).build().expect("thread pool")).collect();
-    let columns: Vec<[f64; 3]> =
+    let columns: Vec<[f64; ROWS]> =
         sets.iter().flat_map(|(_, rays)| pools.iter().map(|pool| mrays(pool, &c, rays))).collect();
     println!("closest hit, Mrays/s (best of {REPS}):");
     println!("  {:<26} {:>10} {:>10} {:>10} {:>10}", "", "camera 1t", "camera 2t", "random 1t", "random 2t");
@@ -248,30 +259,31 @@ fn comparison(mesh: &TriangleMesh) {
     println!("  ({} camera rays, {} random rays)", sets[0].1.len(), sets[1].1.len());
 }
 
-fn torus_scene(mesh: TriangleMesh) -> Option<Scene> {
+fn torus_scene(mesh: TriangleMesh) -> Scene {
     let mut b = SceneBuilder::new(camera());
-    let brdf: std::sync::Arc<dyn brdf::Brdf> = brdf::build("lambert", &[]).ok()?.into();
+    let brdf: std::sync::Arc<dyn brdf::Brdf> = brdf::build("lambert", &[]).expect("lambert").into();
     b.shape(Shape::new(Geometry::Mesh(mesh), brdf));
-    b.build().ok()
+    b.build().expect("a valid scene")
 }
 
-/// One ray per pixel centre, and a cosine-weighted bounce from each hit.
-fn scene_rays(scene: &Scene) -> (Vec<Ray>, Vec<Ray>) {
+/// One ray per pixel centre, a cosine-weighted bounce from each hit, and a shadow ray from
+/// each hit towards a point light above the torus.
+fn scene_rays(scene: &Scene) -> (Vec<Ray>, Vec<Ray>, Vec<Ray>) {
     let cam = &scene.camera;
     let primary: Vec<Ray> = (0..cam.height)
         .flat_map(|y| (0..cam.width).map(move |x| cam.ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5))))
         .collect();
     let mut s = Sampler::new(1, 0, 0);
-    let bounce = primary
-        .iter()
-        .filter_map(|r| scene.intersect(r))
-        .map(|si| spawn_ray(si.p, si.ng, si.frame.to_world(cosine_hemisphere(s.next_2d()))))
-        .collect();
-    (primary, bounce)
+    let hits: Vec<_> = primary.iter().filter_map(|r| scene.intersect(r)).collect();
+    let bounce =
+        hits.iter().map(|si| spawn_ray(si.p, si.ng, si.frame.to_world(cosine_hemisphere(s.next_2d())))).collect();
+    let light = Vec3::new(2.0, 4.0, 3.0);
+    let shadow = hits.iter().map(|si| spawn_ray_to(si.p, si.ng, light).0).collect();
+    (primary, bounce, shadow)
 }
 
 fn criterion_runs(c: &mut Criterion, scene: &Scene, mesh: &TriangleMesh) {
-    let (primary, bounce) = scene_rays(scene);
+    let (primary, bounce, shadow) = scene_rays(scene);
     let mut g = c.benchmark_group("bvh_torus");
     g.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2));
     g.throughput(Throughput::Elements(primary.len() as u64));
@@ -282,6 +294,8 @@ fn criterion_runs(c: &mut Criterion, scene: &Scene, mesh: &TriangleMesh) {
     g.bench_function("bounce_rays", |b| {
         b.iter(|| bounce.iter().filter(|r| scene.intersect_t(black_box(r)).is_some()).count())
     });
+    g.throughput(Throughput::Elements(shadow.len() as u64));
+    g.bench_function("shadow_rays", |b| b.iter(|| shadow.iter().filter(|r| scene.occluded(black_box(r))).count()));
     g.throughput(Throughput::Elements(mesh.len() as u64));
     let bounds: Vec<_> = (0..mesh.len()).map(|i| mesh.triangle_bounds(i)).collect();
     g.bench_function("build", |b| b.iter(|| Bvh::build(black_box(&bounds)).node_count()));
@@ -298,8 +312,6 @@ fn main() {
     };
     let mut crit = Criterion::default().configure_from_args();
     comparison(&mesh);
-    if let Some(scene) = torus_scene(mesh.clone()) {
-        criterion_runs(&mut crit, &scene, &mesh);
-    }
+    criterion_runs(&mut crit, &torus_scene(mesh.clone()), &mesh);
     crit.final_summary();
 }

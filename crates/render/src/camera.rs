@@ -111,7 +111,8 @@ impl Camera {
         let ny = 1.0 - 2.0 * film.y / self.height as f32;
         // Camera +x is to the left, so the left image edge (nx = 1) maps to +x.
         let local = Vec3::new(nx * self.tan_half.x, ny * self.tan_half.y, 1.0);
-        let o = self.to_world.transform_point3(Vec3::ZERO);
+        // The translation column: transform_point3(0) would multiply the other columns by 0.
+        let o = self.to_world.w_axis.truncate();
         let d_world = self.to_world.transform_vector3(local);
         let len = d_world.length();
         let d = d_world / len;

@@ -21,6 +21,7 @@
 //! # Ok(()) }
 //! ```
 
+pub mod atan;
 pub mod bvh;
 pub mod camera;
 pub mod demo;
@@ -37,6 +38,7 @@ pub mod renderer;
 pub mod sampler;
 pub mod scene;
 pub mod shape;
+pub mod warp2d;
 pub mod xml;
 
 pub use error::{Error, Result};

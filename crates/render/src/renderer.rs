@@ -3,7 +3,7 @@
 
 use crate::image::Image;
 use crate::integrator::Integrator;
-use crate::sampler::Sampler;
+use crate::sampler::PixelKey;
 use crate::scene::Scene;
 use glam::Vec2;
 use radiometry::Rgb;
@@ -78,9 +78,9 @@ pub fn render(scene: &Scene, opts: &RenderOptions, progress: impl Fn(Progress) +
                     return;
                 }
                 for (x, acc) in row.iter_mut().enumerate() {
-                    let pixel = (y * w + x) as u64;
+                    let key = PixelKey::new(opts.seed, (y * w + x) as u64);
                     for s in s0..s1 {
-                        let mut sampler = Sampler::new(opts.seed, pixel, s as u64);
+                        let mut sampler = key.sampler(s as u64);
                         let (film, weight) = scene.camera.film_sample(Vec2::new(x as f32, y as f32), sampler.next_2d());
                         let l = opts.integrator.li(scene, scene.camera.ray(film), &mut sampler) * weight;
                         for (a, c) in acc.iter_mut().zip(l.0) {

@@ -1,7 +1,7 @@
 //! A scene: a camera, shapes each with a BRDF (and optionally an emission), lights, and the
 //! BVH over every primitive. Built once with [`SceneBuilder`], then only read.
 
-use crate::bvh::Bvh;
+use crate::bvh::{Bvh, Ray4, Tri4, Visit};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::integrator::phong::PhongCoefficients;
@@ -32,7 +32,8 @@ impl Shape {
     }
 }
 
-/// One BVH primitive, stored in BVH order with what the hot loop needs inline.
+/// One BVH primitive in BVH order. Triangles are also stored in four-wide packs, which the
+/// traversal tests; the other kinds are tested one by one through this enum.
 #[derive(Clone, Copy, Debug)]
 enum Prim {
     Triangle { p0: Vec3, e1: Vec3, e2: Vec3 },
@@ -142,9 +143,23 @@ impl SceneBuilder {
                 Geometry::Rectangle(_) => Prim::Rectangle,
                 Geometry::Disk(_) => Prim::Disk,
             })
-            .collect();
+            .collect::<Vec<_>>();
+        let mut tri4 = vec![Tri4::default(); bvh.pack_count()];
+        let mut others = vec![0u8; bvh.pack_count()];
+        for (p, (pack, other)) in tri4.iter_mut().zip(&mut others).enumerate() {
+            for (lane, k) in bvh.pack(p).enumerate() {
+                match prims[k] {
+                    Prim::Triangle { p0, e1, e2 } => pack.set(lane, p0, e1, e2),
+                    _ => *other |= 1 << lane,
+                }
+            }
+        }
+        // Meshes alone: the traversal then skips the lookup.
+        if others.iter().all(|&m| m == 0) {
+            others.clear();
+        }
         let environment = lights.iter().position(Light::is_environment);
-        Ok(Scene { camera, shapes, lights, light_of_shape, environment, bvh, prims, refs, phong })
+        Ok(Scene { camera, shapes, lights, light_of_shape, environment, bvh, prims, tri4, others, refs, phong })
     }
 }
 
@@ -158,6 +173,10 @@ pub struct Scene {
     environment: Option<usize>,
     bvh: Bvh,
     prims: Vec<Prim>,
+    /// The triangles of each BVH pack, in its lanes.
+    tri4: Vec<Tri4>,
+    /// Per BVH pack, the lanes holding other primitives than triangles; empty when none do.
+    others: Vec<u8>,
     /// (shape, primitive within the shape) per BVH-ordered primitive.
     refs: Vec<(u32, u32)>,
     /// The lecture's Phong coefficients per shape, where given.
@@ -204,7 +223,28 @@ impl Scene {
     /// The closest hit as (BVH-ordered primitive, distance), without shading data.
     #[inline]
     pub fn intersect_t(&self, ray: &Ray) -> Option<(usize, f32)> {
-        self.bvh.closest(ray, |k, t_max| self.intersect_prim(k, ray.o, ray.d, t_max))
+        let mut best = None; // (pack, lane, t)
+        let mut t_max = ray.t_max;
+        self.bvh.walk_closest(ray, &mut t_max, |packs, t_max| {
+            // Splatted here, not before the walk: most rays reach few leaves, many none.
+            let r4 = Ray4::new(ray.o, ray.d);
+            for p in packs {
+                if let Some((lane, t)) = self.tri4[p].closest(&r4, *t_max) {
+                    *t_max = t;
+                    best = Some((p, lane, t));
+                }
+                if !self.others.is_empty() {
+                    let k0 = self.bvh.pack(p).start;
+                    for_lanes(self.others[p], |lane| {
+                        if let Some(t) = self.intersect_prim(k0 + lane, ray.o, ray.d, *t_max) {
+                            *t_max = t;
+                            best = Some((p, lane, t));
+                        }
+                    });
+                }
+            }
+        });
+        best.map(|(p, lane, t)| (self.bvh.pack(p).start + lane, t))
     }
 
     /// The closest hit by testing every primitive (no BVH): the reference the BVH is tested
@@ -224,7 +264,25 @@ impl Scene {
     /// True when anything lies along the ray within (0, t_max).
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
-        self.bvh.any(ray, |k, t_max| self.intersect_prim(k, ray.o, ray.d, t_max))
+        self.bvh.walk_any(ray, |packs| {
+            let r4 = Ray4::new(ray.o, ray.d);
+            for p in packs {
+                if self.tri4[p].any(&r4, ray.t_max) {
+                    return Visit::Stop;
+                }
+                if !self.others.is_empty() {
+                    let k0 = self.bvh.pack(p).start;
+                    let mut hit = false;
+                    for_lanes(self.others[p], |lane| {
+                        hit = hit || self.intersect_prim(k0 + lane, ray.o, ray.d, ray.t_max).is_some();
+                    });
+                    if hit {
+                        return Visit::Stop;
+                    }
+                }
+            }
+            Visit::Continue
+        })
     }
 
     /// True when the light sample `ls` is unobstructed from surface point `p` (geometric
@@ -338,5 +396,14 @@ impl Scene {
             (Light::EnvMap(e), _) => e.pdf(wi),
         };
         pdf * self.light_select_pdf()
+    }
+}
+
+/// Calls `f` with the index of every set bit of `mask`, lowest first.
+#[inline]
+fn for_lanes(mut mask: u8, mut f: impl FnMut(usize)) {
+    while mask != 0 {
+        f(mask.trailing_zeros() as usize);
+        mask &= mask - 1;
     }
 }

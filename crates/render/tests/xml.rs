@@ -424,8 +424,8 @@ fn unknown_elements_and_types() {
     expect_error(&t, "laser", r#"<emitter type="laser">"#, &["point", "constant", "envmap"]);
     let t = scene(r#"<integrator type="bdpt"/>"#);
     expect_error(&t, "bdpt", r#"<integrator type="bdpt">"#, &["path, direct, phong"]);
-    let t = scene(r#"<shape type="sphere"><bsdf type="dielectric"/></shape>"#);
-    expect_error(&t, "dielectric", "<bsdf", &["transmission", "next issue"]);
+    let t = scene(r#"<shape type="sphere"><bsdf type="thindielectric"/></shape>"#);
+    expect_error(&t, "thindielectric", "<bsdf", &["not supported yet", "roughdielectric"]);
     let t = scene(r#"<shape type="sphere"><float name="radiuss" value="1"/></shape>"#);
     expect_error(&t, "radiuss", "radiuss", &["center, radius"]);
     let t = scene(r#"<shape type="sphere" colour="red"/>"#);

@@ -7,7 +7,9 @@
 //! Cells expected to hold fewer than 5 are pooled (smallest first), and Pearson's statistic is
 //! referred to the χ² distribution with (cells − 1) degrees of freedom.
 //!
-//! The bins follow the lobe. Below the horizon is one cell. Above it, a coarse uniform grid is
+//! The bins follow the lobe. Below the horizon is one cell for a model without a back side;
+//! for one with a back side (a two-sided surface, a transmitting one) the lower hemisphere is
+//! binned like the upper one, mirrored, and `wo` is tested below the surface too. Above it, a coarse uniform grid is
 //! refined as a k-d tree on a pilot sample drawn from an independent stream: a node is split at
 //! the median of its pilot points across their longer extent (measured on the sphere) until a leaf
 //! holds at most `LEAF_POINTS`, and wide empty margins around the points are cut away first. Bins chosen from data the test
@@ -76,9 +78,10 @@ pub struct Chi2Outcome {
     pub wo: Vec3,
     /// Directions drawn.
     pub samples: usize,
-    /// The bins above the horizon; together they tile [0, 1] × [0, 2π].
+    /// The bins: above the horizon they tile [0, 1] × [0, 2π]; for a model with a back side,
+    /// more follow that tile [−1, 0] × [0, 2π].
     pub cells: Vec<Chi2Cell>,
-    /// Observed and expected counts below the horizon (one cell).
+    /// Observed and expected counts below the horizon (all the cells there together).
     pub below: [f64; 2],
     /// Observed and expected draws that returned `None` or a delta sample.
     pub missing: [f64; 2],
@@ -379,19 +382,25 @@ pub fn pooled_statistic(cells: &[(f64, f64)]) -> (f64, usize) {
 pub fn chi2_test(brdf: &dyn Brdf, wo: Vec3, samples: usize, seed: u64, stream: u64) -> Chi2Outcome {
     // Pilot: the bins from draws the test never sees.
     let mut rng = util::stream(seed, stream ^ 0x9170_7000_0000);
-    let mut pilot = Vec::new();
+    let two_sided = brdf.back_side();
+    let (mut pilot, mut pilot_below) = (Vec::new(), Vec::new());
     for _ in 0..PILOT_SAMPLES {
         if let Some(s) = brdf.sample(wo, rng.gen(), util::u2(&mut rng)) {
             if !s.delta && s.wi.is_finite() && s.wi.z > 0.0 {
                 pilot.push((s.wi.z as f64, phi_of(s.wi)));
+            } else if two_sided && !s.delta && s.wi.is_finite() && s.wi.z < 0.0 {
+                pilot_below.push((-s.wi.z as f64, phi_of(s.wi)));
             }
         }
     }
     let bins = Bins::new(&pilot);
+    // Below the surface, in (−cos θ, φ): one cell unless the model has a back side.
+    let bins_below = two_sided.then(|| Bins::new(&pilot_below));
 
     // The test draws.
     let mut rng = util::stream(seed, stream);
     let mut observed = vec![0f64; bins.rects.len()];
+    let mut observed_below = vec![0f64; bins_below.as_ref().map_or(0, |b| b.rects.len())];
     let (mut below, mut missing, mut non_delta, mut delta) = (0f64, 0f64, 0usize, 0usize);
     for _ in 0..samples {
         match brdf.sample(wo, rng.gen(), util::u2(&mut rng)) {
@@ -399,6 +408,9 @@ pub fn chi2_test(brdf: &dyn Brdf, wo: Vec3, samples: usize, seed: u64, stream: u
                 non_delta += 1;
                 if s.wi.z <= 0.0 {
                     below += 1.0;
+                    if let Some(b) = &bins_below {
+                        observed_below[b.find((-s.wi.z as f64, phi_of(s.wi)))] += 1.0;
+                    }
                 } else {
                     observed[bins.find((s.wi.z as f64, phi_of(s.wi)))] += 1.0;
                 }
@@ -427,8 +439,33 @@ pub fn chi2_test(brdf: &dyn Brdf, wo: Vec3, samples: usize, seed: u64, stream: u
             expected: n * quad.integrate(*r, h),
         })
         .collect();
-    let below_exp = n * quad.integrate(Rect { x0: -1.0, x1: 0.0, y0: 0.0, y1: TAU }, &[]);
-    let pdf_integral = (cells.iter().map(|c| c.expected).sum::<f64>() + below_exp) / n.max(1.0);
+    let pdf_down = |c: f64, p: f64| brdf.pdf(direction(-c, p), wo).max(0.0) as f64;
+    let mut quad_down = Quadrature { f: &pdf_down, evals: quad.evals, abs_tol: COUNT_TOL / n.max(1.0) };
+    let cells_below: Vec<Chi2Cell> = match &bins_below {
+        None => Vec::new(),
+        Some(b) => b
+            .rects
+            .iter()
+            .zip(&b.hints)
+            .zip(&observed_below)
+            .map(|((r, h), &o)| Chi2Cell {
+                cos: [-r.x1, -r.x0],
+                phi: [r.y0, r.y1],
+                observed: o,
+                expected: n * quad_down.integrate(*r, h),
+            })
+            .collect(),
+    };
+    quad.evals = quad_down.evals;
+    let below_exp = if bins_below.is_some() {
+        cells_below.iter().map(|c| c.expected).sum()
+    } else {
+        n * quad.integrate(Rect { x0: -1.0, x1: 0.0, y0: 0.0, y1: TAU }, &[])
+    };
+    let mut cells = cells;
+    let upper_cells = cells.len();
+    cells.extend(cells_below);
+    let pdf_integral = (cells[..upper_cells].iter().map(|c| c.expected).sum::<f64>() + below_exp) / n.max(1.0);
     let missing_exp = (n * (1.0 - pdf_integral)).max(0.0);
 
     let mut out = Chi2Outcome {
@@ -449,7 +486,9 @@ pub fn chi2_test(brdf: &dyn Brdf, wo: Vec3, samples: usize, seed: u64, stream: u
         return out;
     }
     let mut counts: Vec<(f64, f64)> = out.cells.iter().map(|c| (c.observed, c.expected)).collect();
-    counts.push((below, below_exp));
+    if upper_cells == out.cells.len() {
+        counts.push((below, below_exp));
+    }
     // Samples where the pdf is exactly zero over a whole cell contradict it outright. (Not so the
     // missing cell: its expectation is a difference, zero only by clamping quadrature error.)
     let stray: f64 = counts.iter().filter(|c| c.1 == 0.0).map(|c| c.0).sum();
@@ -471,9 +510,16 @@ pub fn chi2_test(brdf: &dyn Brdf, wo: Vec3, samples: usize, seed: u64, stream: u
 /// 1 − (1 − α)^(1 / (chi2_tests × CHI2_THETAS.len())) (Šidák), `chi2_tests` counting the models
 /// (`check` calls) of the run.
 pub fn chi_square(brdf: &dyn Brdf, cfg: &Config) -> Finding {
-    let tests = cfg.chi2_tests.max(1) * CHI2_THETAS.len();
+    // A model with a back side is also tested from below, at the mirrored angles: twice the
+    // tests, each at the level that keeps the run's family-wise rate at α.
+    let thetas: Vec<f64> = if brdf.back_side() {
+        CHI2_THETAS.iter().copied().chain(CHI2_THETAS.iter().map(|t| 180.0 - t)).collect()
+    } else {
+        CHI2_THETAS.to_vec()
+    };
+    let tests = cfg.chi2_tests.max(1) * thetas.len();
     let threshold = sidak(cfg.alpha, tests);
-    let outcomes: Vec<(f64, Chi2Outcome)> = CHI2_THETAS
+    let outcomes: Vec<(f64, Chi2Outcome)> = thetas
         .iter()
         .enumerate()
         .map(|(k, &t)| {

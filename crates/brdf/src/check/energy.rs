@@ -3,6 +3,13 @@
 //! The two agree for a reciprocal model; for the lecture's raw Phong (ρ ∝ 1/cos θi) only r(wi)
 //! shows the energy gained at grazing incidence, so both are measured.
 //!
+//! A model that transmits is held to the same bound in the power sense, over the whole sphere
+//! and with |cos θ|: radiance refracted into a denser medium grows by η² while the power does
+//! not, so each sample weight is multiplied by its η² (the index ratio it crossed) before it
+//! is averaged. By generalised reciprocity, ρ(wi, wo) η² = ρ(wo, wi), the mean over incident
+//! directions is then the fraction of the power arriving from wo that is reflected or
+//! transmitted, as r(wo) is. Models with a back side are measured from below the surface too.
+//!
 //! a(wo) is estimated with the model's own sampler as the mean of the sample weights
 //! ρ cos θi / pdf (delta lobes contribute through theirs, draws that return `None` contribute 0),
 //! with its standard error. The check passes when every channel at every wo satisfies
@@ -51,7 +58,10 @@ pub fn albedo_integral(brdf: &dyn Brdf, which: Integral, w: Vec3, samples: usize
         let (uc, u) = (rng.gen::<f32>(), util::u2(&mut rng));
         let Some(mut s) = brdf.sample(w, uc, u) else { continue };
         if which == Integral::OverOutgoing && !s.delta {
-            s.weight = if s.pdf > 0.0 { brdf.eval(w, s.wi) * (s.wi.z / s.pdf) } else { Rgb::ZERO };
+            s.weight = if s.pdf > 0.0 { brdf.eval(w, s.wi) * (s.wi.z.abs() / s.pdf) } else { Rgb::ZERO };
+        } else if s.eta != 1.0 {
+            // Radiance to power across an interface.
+            s.weight *= s.eta * s.eta;
         }
         if !s.weight.is_finite() {
             // Non-finite weights are the non-negativity check's finding; keep this one readable.
@@ -79,10 +89,18 @@ pub fn albedo(brdf: &dyn Brdf, wo: Vec3, samples: usize, seed: u64) -> (Rgb, Rgb
     (Rgb(m.map(|v| v as f32)), Rgb(se.map(|v| v as f32)))
 }
 
+/// The polar angles (degrees) at which a model is measured: `ENERGY_THETAS`, and their
+/// mirror images below the surface for a model with a back side.
+pub fn energy_thetas(brdf: &dyn Brdf) -> Vec<f64> {
+    let below = brdf.back_side().then(|| ENERGY_THETAS.iter().map(|t| 180.0 - t));
+    ENERGY_THETAS.iter().copied().chain(below.into_iter().flatten()).collect()
+}
+
 /// The energy check: the largest of a(wo) and r(wi) over the θ × φ grid.
 pub fn energy(brdf: &dyn Brdf, cfg: &Config) -> Finding {
     let integrals = [Integral::OverIncident, Integral::OverOutgoing];
-    let comparisons = integrals.len() * ENERGY_THETAS.len() * ENERGY_PHIS.len() * 3 * cfg.chi2_tests.max(1);
+    let thetas = energy_thetas(brdf);
+    let comparisons = integrals.len() * thetas.len() * ENERGY_PHIS.len() * 3 * cfg.chi2_tests.max(1);
     let a = sidak(cfg.alpha, comparisons);
     let z = Normal::new(0.0, 1.0).map(|n| n.inverse_cdf(1.0 - a)).unwrap_or(4.0);
     // mean, se, channel, θ, φ, integral
@@ -90,7 +108,7 @@ pub fn energy(brdf: &dyn Brdf, cfg: &Config) -> Finding {
     let mut excess: Option<(f64, f64, usize, f64, f64, Integral)> = None;
     let mut k = 0u64;
     for which in integrals {
-        for &theta in &ENERGY_THETAS {
+        for &theta in &thetas {
             for &phi in &ENERGY_PHIS {
                 let w = util::direction(theta.to_radians().cos(), phi);
                 let (mean, se) = albedo_integral(brdf, which, w, ALBEDO_SAMPLES, cfg.seed.wrapping_add(k));
@@ -115,7 +133,7 @@ pub fn energy(brdf: &dyn Brdf, cfg: &Config) -> Finding {
     let (m, se, c, t, p, which) = worst;
     let limit = format!(
         "limit 1 + {z:.2}σ + {F32_MARGIN:.0e}; 2 × {} directions × {ALBEDO_SAMPLES} samples",
-        ENERGY_THETAS.len() * ENERGY_PHIS.len()
+        thetas.len() * ENERGY_PHIS.len()
     );
     let detail = match excess {
         Some((m, se, c, t, p, which)) => {

@@ -26,7 +26,9 @@ mod util;
 pub use chi2::{
     chi2_test, chi_square, pooled_statistic, Chi2Cell, Chi2Outcome, CHI2_SAMPLES, CHI2_THETAS, MIN_EXPECTED,
 };
-pub use energy::{albedo, albedo_f64, albedo_integral, energy, Integral, ALBEDO_SAMPLES, ENERGY_PHIS, ENERGY_THETAS};
+pub use energy::{
+    albedo, albedo_f64, albedo_integral, energy, energy_thetas, Integral, ALBEDO_SAMPLES, ENERGY_PHIS, ENERGY_THETAS,
+};
 pub use sampling::{non_negative, sampling};
 pub use symmetry::{isotropy, reciprocity};
 
@@ -115,9 +117,11 @@ pub struct Config {
     /// Family-wise significance level of the χ² tests.
     pub alpha: f64,
     /// How many `check` calls (model cases) this run makes in total, for the Šidák correction:
-    /// each call runs `CHI2_THETAS.len()` χ² tests, so every test is held to
-    /// 1 − (1 − alpha)^(1 / (chi2_tests × CHI2_THETAS.len())). The energy check's margin is
-    /// corrected over the same family. 1 when one model is checked alone.
+    /// each call runs `CHI2_THETAS.len()` χ² tests (twice that for a model with a back side,
+    /// tested from below too), so every test is held to
+    /// 1 − (1 − alpha)^(1 / (chi2_tests × tests of its model)), which keeps the run's
+    /// family-wise rate at alpha. The energy check's margin is corrected over the same family.
+    /// 1 when one model is checked alone.
     pub chi2_tests: usize,
 }
 

@@ -126,9 +126,24 @@ const GRAZING_WO: [f64; 5] = [1.0, 0.999, 0.02, 2e-3, 1e-4];
 /// a part of the lobe the sampler never reaches, so every estimate through it is biased.
 const COVERAGE_MIN: f32 = 1e-6;
 
-/// Checks every sample against the model: finite, unit `wi` above the surface, `s.pdf` equal to
-/// `pdf(wi, wo)` and `s.weight` equal to `eval(wi, wo) cos θi / s.pdf` within the f32 tolerance
-/// (see `symmetry.rs`), non-zero pdf wherever ρ cos θi is not negligible.
+/// True when a sample `wi` for `wo` lies where the model may send light: above the surface for
+/// a reflection model; on `wo`'s side for one with a back side; anywhere off the plane for one
+/// that transmits.
+fn allowed(brdf: &dyn Brdf, wi: Vec3, wo: Vec3) -> bool {
+    if brdf.transmits() {
+        wi.z != 0.0
+    } else if brdf.back_side() {
+        wi.z * wo.z > 0.0
+    } else {
+        wi.z > 0.0
+    }
+}
+
+/// Checks every sample against the model: finite, unit `wi` where the model may send light
+/// (`allowed`), `s.pdf` equal to `pdf(wi, wo)` and `s.weight` equal to
+/// `eval(wi, wo) |cos θi| / s.pdf` within the f32 tolerance (see `symmetry.rs`), `s.eta` 1 for
+/// a reflection and the model's index ratio for a transmission, and non-zero pdf wherever
+/// ρ |cos θi| is not negligible. A model with a back side is tested from below as well.
 pub fn sampling(brdf: &dyn Brdf, cfg: &Config) -> Finding {
     let mut rng = util::stream(cfg.seed, 0x5A3F);
     let mut bad = Tally::default();
@@ -136,6 +151,11 @@ pub fn sampling(brdf: &dyn Brdf, cfg: &Config) -> Finding {
     let mut worst = 0.0f64;
     let mut wos: Vec<Vec3> = GRAZING_WO.iter().map(|&c| direction(c, 2.0)).collect();
     wos.extend((0..SAMPLING_WO).map(|_| uniform_upper(&mut rng)));
+    if brdf.back_side() {
+        let below: Vec<Vec3> = wos.iter().map(|w| Vec3::new(w.x, -w.y, -w.z)).collect();
+        wos.extend(below);
+    }
+    let eta = brdf.eta();
     let eval = |wi: Vec3, wo: Vec3| brdf.eval(wi, wo);
     let pdf = |wi: Vec3, wo: Vec3| Rgb::splat(brdf.pdf(wi, wo));
     for &wo in &wos {
@@ -152,9 +172,17 @@ pub fn sampling(brdf: &dyn Brdf, cfg: &Config) -> Finding {
             if (s.wi.length() - 1.0).abs() > 1e-4 {
                 bad.add(|| format!("|wi| = {} ({})", s.wi.length(), at()));
             }
-            if s.wi.z <= 0.0 {
-                bad.add(|| format!("wi below the surface, z = {:e} ({})", s.wi.z, at()));
+            if !allowed(brdf, s.wi, wo) {
+                bad.add(|| format!("wi where the model sends no light, z = {:e} ({})", s.wi.z, at()));
                 continue;
+            }
+            let want_eta = match (s.wi.z * wo.z < 0.0, wo.z > 0.0) {
+                (false, _) => 1.0,
+                (true, true) => eta,
+                (true, false) => 1.0 / eta,
+            };
+            if rel_diff1(s.eta, want_eta).unwrap_or(0.0) > util::BASE_TOL {
+                bad.add(|| format!("sample eta {} but the sides crossed give {want_eta} ({})", s.eta, at()));
             }
             if s.delta {
                 deltas += 1;
@@ -163,7 +191,7 @@ pub fn sampling(brdf: &dyn Brdf, cfg: &Config) -> Finding {
             compared += 1;
             let p = brdf.pdf(s.wi, wo);
             let d_pdf = rel_diff1(s.pdf, p).unwrap_or(0.0);
-            let want = brdf.eval(s.wi, wo) * (s.wi.z / s.pdf);
+            let want = brdf.eval(s.wi, wo) * (s.wi.z.abs() / s.pdf);
             let d_w = rel_diff(s.weight, want).unwrap_or(0.0);
             worst = worst.max(d_pdf).max(d_w);
             if d_pdf.max(d_w) > util::BASE_TOL {
@@ -180,9 +208,9 @@ pub fn sampling(brdf: &dyn Brdf, cfg: &Config) -> Finding {
             }
         }
         for _ in 0..SAMPLES_PER_WO / 2 {
-            let wi = uniform_upper(&mut rng);
+            let wi = if brdf.back_side() { uniform_sphere(&mut rng) } else { uniform_upper(&mut rng) };
             let f = brdf.eval(wi, wo);
-            if f.max_channel() * wi.z > COVERAGE_MIN && brdf.pdf(wi, wo) == 0.0 {
+            if f.max_channel() * wi.z.abs() > COVERAGE_MIN && brdf.pdf(wi, wo) == 0.0 {
                 bad.add(|| format!("pdf = 0 where ρ = {:?} (wi {} wo {})", f.0, fmt_dir(wi), fmt_dir(wo)));
             }
         }

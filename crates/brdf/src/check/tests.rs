@@ -31,7 +31,7 @@ fn cosine_sample(b: &dyn Brdf, wo: Vec3, u: Vec2, pdf_scale: f32) -> Option<Brdf
     if pdf <= 0.0 {
         return None;
     }
-    Some(BrdfSample { wi, pdf, weight: b.eval(wi, wo) * (wi.z / pdf), delta: false })
+    Some(BrdfSample { wi, pdf, weight: b.eval(wi, wo) * (wi.z / pdf), delta: false, eta: 1.0 })
 }
 
 /// Lambert whose `pdf()` is `factor` times the true density; with `consistent`, `sample`
@@ -175,7 +175,7 @@ impl Brdf for PhongLobe {
         if wi.z <= 0.0 || pdf <= 0.0 {
             return None;
         }
-        Some(BrdfSample { wi, pdf, weight: self.eval(wi, wo) * (wi.z / pdf), delta: false })
+        Some(BrdfSample { wi, pdf, weight: self.eval(wi, wo) * (wi.z / pdf), delta: false, eta: 1.0 })
     }
     fn claims(&self) -> Claims {
         Claims::PLAUSIBLE

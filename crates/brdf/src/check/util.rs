@@ -56,7 +56,13 @@ pub(crate) fn uniform_upper(rng: &mut Pcg32) -> Vec3 {
 /// A direction at a log-uniform angle between 1e-4 and 1 rad from the mirror direction of
 /// `wo`, where specular lobes live and uniform directions rarely go; `None` below the surface.
 pub(crate) fn near_mirror(wo: Vec3, rng: &mut Pcg32) -> Option<Vec3> {
-    let m = [-wo.x as f64, -wo.y as f64, wo.z as f64];
+    let w = near(Vec3::new(-wo.x, -wo.y, wo.z), rng);
+    (w.z > 0.0).then_some(w)
+}
+
+/// A direction at a log-uniform angle between 1e-4 and 1 rad from `axis` (any side).
+pub(crate) fn near(axis: Vec3, rng: &mut Pcg32) -> Vec3 {
+    let m = [axis.x as f64, axis.y as f64, axis.z as f64];
     let len = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
     let m = m.map(|c| c / len);
     // An orthonormal basis (t, b, m), as in Duff et al. 2017.
@@ -70,8 +76,15 @@ pub(crate) fn near_mirror(wo: Vec3, rng: &mut Pcg32) -> Option<Vec3> {
     let (st, ct) = angle.sin_cos();
     let (sp, cp) = phi.sin_cos();
     let w: [f64; 3] = std::array::from_fn(|i| st * cp * t[i] + st * sp * b[i] + ct * m[i]);
-    let w = Vec3::new(w[0] as f32, w[1] as f32, w[2] as f32);
-    (w.z > 0.0).then_some(w)
+    Vec3::new(w[0] as f32, w[1] as f32, w[2] as f32)
+}
+
+/// The direction refracted from `wo` through a smooth interface of relative index `eta`
+/// (below over above), or the mirror direction under total internal reflection: where a
+/// transmitted lobe is centred.
+pub(crate) fn refracted(wo: Vec3, eta: f32) -> Vec3 {
+    let eta_t = if wo.z > 0.0 { eta } else { 1.0 / eta };
+    crate::dielectric::refract_z(wo, eta_t).map_or(Vec3::new(-wo.x, -wo.y, wo.z), |(w, _)| w)
 }
 
 /// Rotation of `w` by `angle` about the normal, in f64 and rounded once.

@@ -123,7 +123,7 @@ impl Brdf for Merl {
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample> {
         let (wi, pdf) = self.data.sampler.sample(wo, uc, u)?;
         let weight = self.eval(wi, wo) * (wi.z / pdf);
-        weight.is_finite().then_some(BrdfSample { wi, pdf, weight, delta: false })
+        weight.is_finite().then_some(BrdfSample { wi, pdf, weight, delta: false, eta: 1.0 })
     }
 
     fn claims(&self) -> Claims {

@@ -12,6 +12,7 @@
 //! scaled by (α_x, α_y), which is how they are sampled.
 
 pub mod beckmann;
+pub mod erf;
 pub mod ggx;
 
 pub use beckmann::Beckmann;
@@ -47,6 +48,25 @@ pub enum Shadowing {
     Correlated,
 }
 
+impl Shadowing {
+    /// The shadowing-masking term from Λ(wi) and Λ(wo), for callers that reuse the Λs;
+    /// bit for bit what [`Ndf::g`] returns.
+    #[inline]
+    pub fn from_lambdas(self, lambda_i: f32, lambda_o: f32) -> f32 {
+        match self {
+            Shadowing::Separable => g1_from_lambda(lambda_i) * g1_from_lambda(lambda_o),
+            // Summing the Λs first keeps G exactly symmetric in wi and wo.
+            Shadowing::Correlated => 1.0 / (1.0 + (lambda_i + lambda_o)),
+        }
+    }
+}
+
+/// Smith masking G1 = 1 / (1 + Λ) from Λ.
+#[inline]
+pub fn g1_from_lambda(lambda: f32) -> f32 {
+    1.0 / (1.0 + lambda)
+}
+
 /// A microfacet normal distribution: D, Smith's Λ, and samplers for D cos θh and D_wo.
 pub trait Ndf {
     /// D(h) in 1/sr; zero for h below the surface.
@@ -73,29 +93,25 @@ pub trait Ndf {
     /// Smith masking G1(w) = 1 / (1 + Λ(w)); zero at or below the horizon.
     #[inline]
     fn g1(&self, w: Vec3) -> f32 {
-        1.0 / (1.0 + self.lambda(w))
+        g1_from_lambda(self.lambda(w))
     }
 
     /// Separable shadowing-masking G1(wi) G1(wo).
     #[inline]
     fn g_separable(&self, wi: Vec3, wo: Vec3) -> f32 {
-        self.g1(wi) * self.g1(wo)
+        Shadowing::Separable.from_lambdas(self.lambda(wi), self.lambda(wo))
     }
 
     /// Height-correlated shadowing-masking 1 / (1 + Λ(wi) + Λ(wo)).
     #[inline]
     fn g_correlated(&self, wi: Vec3, wo: Vec3) -> f32 {
-        // Summing the Λs first keeps G exactly symmetric in wi and wo.
-        1.0 / (1.0 + (self.lambda(wi) + self.lambda(wo)))
+        Shadowing::Correlated.from_lambdas(self.lambda(wi), self.lambda(wo))
     }
 
     /// The shadowing-masking term of kind `s`.
     #[inline]
     fn g(&self, s: Shadowing, wi: Vec3, wo: Vec3) -> f32 {
-        match s {
-            Shadowing::Separable => self.g_separable(wi, wo),
-            Shadowing::Correlated => self.g_correlated(wi, wo),
-        }
+        s.from_lambdas(self.lambda(wi), self.lambda(wo))
     }
 
     /// Density of `sample_normal`: D(h) cos θh.

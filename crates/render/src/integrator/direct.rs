@@ -1,5 +1,8 @@
 //! Direct lighting: the path integrator stopped at two vertices (camera → surface →
-//! emitter), without Russian roulette.
+//! emitter), without Russian roulette. At a transmitting surface the BRDF sample may cross
+//! it, and counts only if it reaches an emitter (or the environment) straight away: a glass
+//! sphere shows its reflections and, through one refraction, its inside wall's emission,
+//! as Mitsuba's `direct` does.
 
 use crate::ray::Ray;
 use crate::sampler::Sampler;

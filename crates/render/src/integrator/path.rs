@@ -4,6 +4,16 @@
 //! and one BRDF sample, each weighted by the power heuristic against the other; emission
 //! found by the BRDF sample gets its weight at the next vertex. Delta lights and delta
 //! lobes take weight 1, since no other strategy can produce them.
+//!
+//! Sides. A one-sided model (most BRDFs) ends the path on its back face, as in Mitsuba. A model
+//! with a back side (`twosided`) is handed the local directions as they are (wo.z < 0 on the
+//! back) and mirrors them itself; one that transmits (`dielectric`, `roughdielectric`) may
+//! send the path through the surface, where the continuation ray starts on the far side, and
+//! its light samples are drawn over the whole sphere (no normal in the reference point).
+//! Shading and geometric normals must agree on the side of every direction, else the
+//! contribution is dropped (light would leak through the surface). Russian roulette judges
+//! β η², η the product of the index ratios crossed, so that radiance brightened by entering
+//! glass does not make a path look more valuable than its power (Mitsuba 3's `path`).
 
 use crate::integrator::power_heuristic;
 use crate::light::RefPoint;
@@ -24,6 +34,8 @@ struct Previous {
 pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler, max_depth: u32, rr_depth: u32) -> Rgb {
     let mut result = Rgb::ZERO;
     let mut beta = Rgb::ONE;
+    // Product of the index ratios crossed: β η² is the path's weight in power.
+    let mut eta = 1.0f32;
     let mut depth = 0u32;
     // None for the camera ray: emission seen directly has weight 1.
     let mut prev: Option<Previous> = None;
@@ -60,23 +72,27 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler, max_depth: u32, rr
         }
         let brdf = scene.brdf(si.shape);
         let wo = si.frame.to_local(wo_world);
-        // Surfaces reflect from their front only (one-sided, like Mitsuba's BSDFs), and a
-        // direction is on the front only if both normals agree.
+        // A direction is on a side only if both normals agree; a one-sided model scatters
+        // nothing on its back.
         let side = wo_world.dot(si.ng);
-        if wo.z <= 0.0 || side <= 0.0 {
+        if wo.z * side <= 0.0 || wo.z.is_nan() || (wo.z < 0.0 && !brdf.back_side()) {
             break;
         }
-        let r = RefPoint { p: si.p, n: Some(si.frame.n) };
+        let transmits = brdf.transmits();
+        // Where `wi` may lie: on wo's side, or anywhere for a model that transmits.
+        let usable = |wi: f32, wi_ng: f32| wi * wi_ng > 0.0 && (transmits || wi * wo.z > 0.0);
+        let n = if transmits { None } else { Some(si.frame.n * wo.z.signum()) };
+        let r = RefPoint { p: si.p, n };
 
         // Next-event estimation.
         let (uc, uc2, u) = (sampler.next_1d(), sampler.next_1d(), sampler.next_2d());
         if let Some(ls) = scene.sample_light(&r, uc, uc2, u) {
             let wi = si.frame.to_local(ls.wi);
-            if wi.z > 0.0 && ls.wi.dot(si.ng) > 0.0 {
+            if usable(wi.z, ls.wi.dot(si.ng)) {
                 let f = brdf.eval(wi, wo);
                 if !f.is_black() && scene.unoccluded(si.p, si.ng, &ls) {
                     let w = if ls.delta { 1.0 } else { power_heuristic(ls.pdf, brdf.pdf(wi, wo)) };
-                    result += beta * f * ls.li * (wi.z * w / ls.pdf);
+                    result += beta * f * ls.li * (wi.z.abs() * w / ls.pdf);
                 }
             }
         }
@@ -84,17 +100,17 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler, max_depth: u32, rr
         // BRDF sampling: the direction the path continues in.
         let Some(bs) = brdf.sample(wo, sampler.next_1d(), sampler.next_2d()) else { break };
         let wi_world = si.frame.to_world(bs.wi);
-        if bs.wi.z <= 0.0 || wi_world.dot(si.ng) <= 0.0 || !bs.weight.is_finite() {
+        if !usable(bs.wi.z, wi_world.dot(si.ng)) || !bs.weight.is_finite() {
             break;
         }
         beta = beta * bs.weight;
+        eta *= bs.eta;
         prev = Some(Previous { r, pdf: bs.pdf, delta: bs.delta });
         ray = spawn_ray(si.p, si.ng, wi_world);
         depth += 1;
 
-        // Russian roulette: survive with q = min(max channel of β, 0.95), reweight by 1/q
-        // (η = 1: these models only reflect).
-        let q = beta.max_channel().min(0.95);
+        // Russian roulette: survive with q = min(max channel of β η², 0.95), reweight by 1/q.
+        let q = (beta.max_channel() * eta * eta).min(0.95);
         if depth >= rr_depth {
             if sampler.next_1d() >= q {
                 break;

@@ -96,22 +96,29 @@ pub fn li(scene: &Scene, ray: Ray, shadows: bool) -> Rgb {
         return scene.environment().map_or(Rgb::ZERO, |(_, env)| env.environment_radiance(ray.d));
     };
     let v = -ray.d;
-    let n = si.frame.n;
     let mut result = Rgb::ZERO;
     if let Some((_, area)) = scene.area_light(si.shape) {
         result += area.emitted(si.ng, v);
     }
-    // One-sided surfaces, as in the path tracer.
-    if n.dot(v) <= 0.0 || si.ng.dot(v) <= 0.0 {
-        return result;
-    }
     let coefficients = scene.phong(si.shape);
     let brdf = scene.brdf(si.shape);
+    // One-sided surfaces, as in the path tracer; a two-sided model is lit on the side seen,
+    // with the normals turned to face the viewer. A transmitting model shows its reflection
+    // only: the lecture's model knows no refraction.
+    let (n, ng) = if si.frame.n.dot(v) < 0.0 && si.ng.dot(v) < 0.0 && brdf.back_side() {
+        (-si.frame.n, -si.ng)
+    } else {
+        (si.frame.n, si.ng)
+    };
+    if n.dot(v) <= 0.0 || ng.dot(v) <= 0.0 {
+        return result;
+    }
     let wo = si.frame.to_local(v);
+    let normal = Vec3::Z * wo.z.signum();
     if let Some((_, Light::Constant(c))) = scene.environment() {
         let ka = match coefficients {
             Some(k) => k.ka,
-            None => brdf.eval(Vec3::Z, wo) * PI,
+            None => brdf.eval(normal, wo) * PI,
         };
         result += ka * c.radiance;
     }
@@ -119,20 +126,20 @@ pub fn li(scene: &Scene, ray: Ray, shadows: bool) -> Rgb {
     for light in scene.lights() {
         let Light::Point(pl) = light else { continue };
         let Some(ls) = pl.sample(&r) else { continue };
-        if ls.wi.dot(si.ng) <= 0.0 {
+        if ls.wi.dot(ng) <= 0.0 {
             continue;
         }
         let term = match coefficients {
             Some(k) => k.reflect(n, ls.wi, v),
             None => {
                 let wi = si.frame.to_local(ls.wi);
-                if wi.z <= 0.0 {
+                if wi.z * wo.z <= 0.0 {
                     continue;
                 }
-                brdf.eval(wi, wo) * wi.z
+                brdf.eval(wi, wo) * wi.z.abs()
             }
         };
-        if term.is_black() || (shadows && !scene.unoccluded(si.p, si.ng, &ls)) {
+        if term.is_black() || (shadows && !scene.unoccluded(si.p, ng, &ls)) {
             continue;
         }
         result += ls.li * term;

@@ -8,13 +8,19 @@
 //! | `roughconductor` (distribution, alpha, alpha_u/v, material, eta, k) | `microfacet`, Smith separable shadowing (Mitsuba's G1·G1) |
 //! | `roughplastic` (distribution, alpha, int_ior, ext_ior, diffuse/specular_reflectance, nonlinear) | `roughplastic`, the same model and names |
 //! | `plastic` (int_ior, ext_ior, diffuse/specular_reflectance, nonlinear) | `plastic`, the same model and names |
-//! | `twosided` | the nested model (see below) |
+//! | `dielectric` (int_ior, ext_ior, specular_reflectance/transmittance) | `dielectric`, the same model and names |
+//! | `roughdielectric` (distribution, alpha, alpha_u/v, int_ior, ext_ior, specular_reflectance/transmittance) | `roughdielectric`, the same model and names |
+//! | `twosided` (one or two nested bsdfs) | `brdf::two_sided::TwoSided` around them (see below) |
 //!
-//! `roughplastic` and `plastic` are Mitsuba's models reproduced in `brdf::plastic`; named
-//! indices of refraction (`<string name="int_ior" value="bk7"/>`) become their numbers here.
+//! `roughplastic`, `plastic`, `dielectric` and `roughdielectric` are Mitsuba's models
+//! reproduced in `brdf`; named indices of refraction (`<string name="int_ior" value="bk7"/>`)
+//! become their numbers here. `sample_visible` is accepted and ignored: gonio always samples
+//! visible normals, which changes the noise, not the expected image.
 //!
-//! `twosided` loads as its nested model: gonio's surfaces reflect from their front side
-//! only, so a back face stays black (as in Mitsuba without `twosided`).
+//! gonio's surfaces, like Mitsuba's, reflect from their front side only; a back face is
+//! black. `twosided` makes the nested model act on both sides, mirrored on the back (or the
+//! second nested model on the back when two are given), as in Mitsuba. A transmitting model
+//! already has two sides, and `twosided` refuses one, as Mitsuba does.
 
 use super::error::XmlError;
 use super::parse::{plugin, Ctx, Plugin, Val};
@@ -24,11 +30,11 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 /// The Mitsuba BSDF types this loader maps.
-pub const MITSUBA_TYPES: &[&str] = &["diffuse", "conductor", "roughconductor", "plastic", "roughplastic", "twosided"];
+pub const MITSUBA_TYPES: &[&str] =
+    &["diffuse", "conductor", "roughconductor", "plastic", "roughplastic", "dielectric", "roughdielectric", "twosided"];
 
-/// Mitsuba types that need transmission, which gonio's models do not have yet.
-const TRANSMISSIVE: &[&str] =
-    &["dielectric", "roughdielectric", "thindielectric", "blendbsdf", "mask", "bumpmap", "normalmap", "polarizer"];
+/// Mitsuba types gonio does not have yet.
+const UNSUPPORTED: &[&str] = &["thindielectric", "blendbsdf", "mask", "bumpmap", "normalmap", "polarizer"];
 
 /// Named indices of refraction Mitsuba accepts for `int_ior`/`ext_ior` (its `ior.h` table).
 const IORS: &[(&str, f64)] = &[
@@ -228,10 +234,53 @@ pub fn load(ctx: &Ctx, node: Node, named: &Named) -> Result<LoadedBsdf, XmlError
     match kind {
         "twosided" => {
             p.allow(ctx, &[])?;
-            let [inner] = p.children.as_slice() else {
-                return Err(p.err(ctx, "twosided takes exactly one nested <bsdf> or <ref>"));
+            let (front, back) = match p.children.as_slice() {
+                [one] => {
+                    let b = nested(ctx, *one, named)?;
+                    (b.clone(), b)
+                }
+                [front, back] => (nested(ctx, *front, named)?, nested(ctx, *back, named)?),
+                _ => return Err(p.err(ctx, "twosided takes one nested <bsdf> or <ref> (or two: front, back)")),
             };
-            nested(ctx, *inner, named)
+            let two = brdf::two_sided::TwoSided::new(front.brdf.clone(), back.brdf.clone())
+                .map_err(|e| p.err(ctx, format!("{e}; nested: {} / {}", front.model, back.model)))?;
+            // The front's name and parameters stay: the Phong integrator reads its coefficients.
+            Ok(LoadedBsdf { brdf: Arc::new(two), ..front })
+        }
+        "dielectric" | "roughdielectric" => {
+            let rough = kind == "roughdielectric";
+            let mut names = vec!["int_ior", "ext_ior", "specular_reflectance", "specular_transmittance"];
+            if rough {
+                names.extend(["distribution", "alpha", "alpha_u", "alpha_v", "sample_visible"]);
+            }
+            p.allow(ctx, &names)?;
+            let mut args = vec![
+                arg(
+                    "int_ior",
+                    ior(ctx, &p, "int_ior", brdf::dielectric::DEFAULT_INT_IOR)?.to_string(),
+                    Some("int_ior"),
+                ),
+                arg(
+                    "ext_ior",
+                    ior(ctx, &p, "ext_ior", brdf::dielectric::DEFAULT_EXT_IOR)?.to_string(),
+                    Some("ext_ior"),
+                ),
+                arg(
+                    "specular_reflectance",
+                    rgb_text(ctx, &p, "specular_reflectance", "1")?,
+                    Some("specular_reflectance"),
+                ),
+                arg(
+                    "specular_transmittance",
+                    rgb_text(ctx, &p, "specular_transmittance", "1")?,
+                    Some("specular_transmittance"),
+                ),
+            ];
+            if rough {
+                p.bool(ctx, "sample_visible", true)?;
+                args.extend(roughness_args(ctx, &p)?.into_iter().filter(|a| a.ours != "shadowing"));
+            }
+            build(ctx, &p, kind, &args)
         }
         "diffuse" => {
             p.allow(ctx, &["reflectance"])?;
@@ -304,10 +353,10 @@ pub fn load(ctx: &Ctx, node: Node, named: &Named) -> Result<LoadedBsdf, XmlError
             }
             build(ctx, &p, kind, &args)
         }
-        t if TRANSMISSIVE.contains(&t) => Err(p.err(
+        t if UNSUPPORTED.contains(&t) => Err(p.err(
             ctx,
             format!(
-                "bsdf type '{t}' needs transmission or texturing, which comes in the next issue; accepted now: {}",
+                "bsdf type '{t}' (blending, masks, textures or thin sheets) is not supported yet; accepted: {}",
                 accepted()
             ),
         )),
