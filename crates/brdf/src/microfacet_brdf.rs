@@ -74,18 +74,6 @@ impl MicrofacetBrdf {
         // rounding of wo·h near grazing.
         g1_from_lambda(lambda_o) * d / (4.0 * wo.z)
     }
-
-    /// `eval` and `pdf` together, sharing h, D(h) and Λ(wo): bit for bit what each returns.
-    pub fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
-        if !same_upper_hemisphere(wi, wo) {
-            return (Rgb::ZERO, 0.0);
-        }
-        let Some((h, cos_d)) = Self::half(wi, wo) else { return (Rgb::ZERO, 0.0) };
-        let dist = &self.distribution;
-        let (d, lambda_o) = (dist.d(h), dist.lambda(wo));
-        let rho = self.rho(wi, wo, cos_d, d, dist.lambda(wi), lambda_o);
-        (rho, Self::density(wo, cos_d, d, lambda_o))
-    }
 }
 
 impl Brdf for MicrofacetBrdf {
@@ -107,6 +95,18 @@ impl Brdf for MicrofacetBrdf {
             return 0.0;
         }
         Self::density(wo, cos_d, self.distribution.d(h), self.distribution.lambda(wo))
+    }
+
+    /// Sharing h, D(h) and Λ(wo): bit for bit what each returns.
+    fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
+        if !same_upper_hemisphere(wi, wo) {
+            return (Rgb::ZERO, 0.0);
+        }
+        let Some((h, cos_d)) = Self::half(wi, wo) else { return (Rgb::ZERO, 0.0) };
+        let dist = &self.distribution;
+        let (d, lambda_o) = (dist.d(h), dist.lambda(wo));
+        let rho = self.rho(wi, wo, cos_d, d, dist.lambda(wi), lambda_o);
+        (rho, Self::density(wo, cos_d, d, lambda_o))
     }
 
     fn sample(&self, wo: Vec3, _uc: f32, u: Vec2) -> Option<BrdfSample> {

@@ -63,6 +63,13 @@ pub trait Brdf: Send + Sync + std::fmt::Debug {
     /// Solid-angle density with which `sample(wo, ..)` returns `wi` (delta lobes excluded).
     fn pdf(&self, wi: Vec3, wo: Vec3) -> f32;
 
+    /// `eval` and `pdf` together, bit for bit what each returns; models whose two share
+    /// work (half vector, D, Fresnel) override it, since a renderer's light sample needs both.
+    #[inline]
+    fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
+        (self.eval(wi, wo), self.pdf(wi, wo))
+    }
+
     /// Draws `wi` for a given `wo`: `uc` picks a lobe, `u` places the direction.
     /// `None` when no direction can be produced (e.g. `wo` below the surface).
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample>;
@@ -99,6 +106,9 @@ impl<T: Brdf + ?Sized> Brdf for Box<T> {
     }
     fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
         (**self).pdf(wi, wo)
+    }
+    fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
+        (**self).eval_pdf(wi, wo)
     }
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample> {
         (**self).sample(wo, uc, u)

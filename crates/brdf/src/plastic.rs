@@ -319,15 +319,6 @@ impl RoughPlastic {
         let h = (wi + wo).normalize_or_zero();
         (h.z > 0.0).then(|| (h, self.dist.d(h)))
     }
-
-    /// `eval` and `pdf` together, sharing h, D(h) and t(cos θo): bit for bit what each returns.
-    pub fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
-        if !same_upper_hemisphere(wi, wo) {
-            return (Rgb::ZERO, 0.0);
-        }
-        let (hd, t_o) = (self.half(wi, wo), self.transmittance(wo.z));
-        (self.rho(wi, wo, hd, t_o), self.density(wi, wo, hd, t_o))
-    }
 }
 
 impl Brdf for RoughPlastic {
@@ -343,6 +334,15 @@ impl Brdf for RoughPlastic {
             return 0.0;
         }
         self.density(wi, wo, self.half(wi, wo), self.transmittance(wo.z))
+    }
+
+    /// Sharing h, D(h) and t(cos θo): bit for bit what each returns.
+    fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
+        if !same_upper_hemisphere(wi, wo) {
+            return (Rgb::ZERO, 0.0);
+        }
+        let (hd, t_o) = (self.half(wi, wo), self.transmittance(wo.z));
+        (self.rho(wi, wo, hd, t_o), self.density(wi, wo, hd, t_o))
     }
 
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample> {

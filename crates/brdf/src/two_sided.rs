@@ -64,6 +64,16 @@ impl Brdf for TwoSided {
         }
     }
 
+    fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
+        if wo.z > 0.0 {
+            self.front.eval_pdf(wi, wo)
+        } else if wo.z < 0.0 {
+            self.back.eval_pdf(mirror(wi), mirror(wo))
+        } else {
+            (Rgb::ZERO, 0.0)
+        }
+    }
+
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample> {
         if wo.z > 0.0 {
             self.front.sample(wo, uc, u)

@@ -101,3 +101,36 @@ fn white_lambert_reflects_everything_at_every_angle() {
     let (mean, _) = albedo(white.as_ref(), Vec3::new(0.0, 0.6, -0.8), 1000, 1);
     assert_eq!(mean, Rgb::ZERO);
 }
+
+#[test]
+fn eval_pdf_is_eval_and_pdf_bit_for_bit() {
+    // Models that compute both at once (sharing the half vector, D, G) must not drift from the
+    // separate calls the harness checks; directions over the whole sphere, wrapped in twosided too.
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let mut next = move || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let mut dir = move || {
+        let (z, phi) = (2.0 * next() - 1.0, std::f32::consts::TAU * next());
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    };
+    let mut cases = cases();
+    for spec in ["ggx", "roughplastic"] {
+        let front: std::sync::Arc<dyn Brdf> = brdf::build(spec, &[]).unwrap().into();
+        let sided = brdf::two_sided::TwoSided::new(front.clone(), front).unwrap();
+        cases.push((format!("twosided {spec}"), Box::new(sided)));
+    }
+    for (label, b) in &cases {
+        for _ in 0..2000 {
+            let (wi, wo) = (dir(), dir());
+            let (f, p) = b.eval_pdf(wi, wo);
+            let (fe, pe) = (b.eval(wi, wo), b.pdf(wi, wo));
+            assert!(
+                f.0.iter().zip(fe.0).all(|(a, b)| a.to_bits() == b.to_bits()) && p.to_bits() == pe.to_bits(),
+                "{label}: eval_pdf({wi}, {wo}) = ({f:?}, {p}) but eval, pdf = ({fe:?}, {pe})"
+            );
+        }
+    }
+}

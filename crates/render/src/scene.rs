@@ -149,19 +149,30 @@ impl SceneBuilder {
         for (p, (pack, other)) in tri4.iter_mut().zip(&mut others).enumerate() {
             for (lane, k) in bvh.pack(p).enumerate() {
                 match prims[k] {
-                    Prim::Triangle { p0, e1, e2 } => pack.set(lane, p0, e1, e2),
+                    Prim::Triangle { p0, e1, e2 } => {
+                        pack.set(lane, p0, e1, e2);
+                        *other |= HAS_TRIANGLES;
+                    }
                     _ => *other |= 1 << lane,
                 }
             }
         }
         // Meshes alone: the traversal then skips the lookup.
-        if others.iter().all(|&m| m == 0) {
+        if others.iter().all(|&m| m == HAS_TRIANGLES) {
             others.clear();
         }
+        let linear = prims.len() <= LINEAR_MAX && !prims.iter().any(|p| matches!(p, Prim::Triangle { .. }));
         let environment = lights.iter().position(Light::is_environment);
-        Ok(Scene { camera, shapes, lights, light_of_shape, environment, bvh, prims, tri4, others, refs, phong })
+        Ok(Scene { camera, shapes, lights, light_of_shape, environment, bvh, prims, tri4, others, linear, refs, phong })
     }
 }
+
+/// The bit of `Scene::others` saying a pack holds triangles (lanes take bits 0 to 3).
+const HAS_TRIANGLES: u8 = 0x10;
+
+/// Up to this many analytic primitives, testing each beats walking the BVH (measured with
+/// callgrind on the bench scenes: one to five spheres and rectangles).
+const LINEAR_MAX: usize = 8;
 
 /// A built scene.
 pub struct Scene {
@@ -175,8 +186,11 @@ pub struct Scene {
     prims: Vec<Prim>,
     /// The triangles of each BVH pack, in its lanes.
     tri4: Vec<Tri4>,
-    /// Per BVH pack, the lanes holding other primitives than triangles; empty when none do.
+    /// Per BVH pack, the lanes holding other primitives than triangles, and [`HAS_TRIANGLES`]
+    /// when some lane holds a triangle; empty when all packs hold triangles only.
     others: Vec<u8>,
+    /// A few analytic shapes and no triangle: rays test them all, without the BVH.
+    linear: bool,
     /// (shape, primitive within the shape) per BVH-ordered primitive.
     refs: Vec<(u32, u32)>,
     /// The lecture's Phong coefficients per shape, where given.
@@ -223,19 +237,25 @@ impl Scene {
     /// The closest hit as (BVH-ordered primitive, distance), without shading data.
     #[inline]
     pub fn intersect_t(&self, ray: &Ray) -> Option<(usize, f32)> {
+        if self.linear {
+            return self.intersect_t_linear(ray);
+        }
         let mut best = None; // (pack, lane, t)
         let mut t_max = ray.t_max;
         self.bvh.walk_closest(ray, &mut t_max, |packs, t_max| {
             // Splatted here, not before the walk: most rays reach few leaves, many none.
             let r4 = Ray4::new(ray.o, ray.d);
             for p in packs {
-                if let Some((lane, t)) = self.tri4[p].closest(&r4, *t_max) {
-                    *t_max = t;
-                    best = Some((p, lane, t));
+                let mixed = !self.others.is_empty();
+                if !mixed || self.others[p] & HAS_TRIANGLES != 0 {
+                    if let Some((lane, t)) = self.tri4[p].closest(&r4, *t_max) {
+                        *t_max = t;
+                        best = Some((p, lane, t));
+                    }
                 }
-                if !self.others.is_empty() {
+                if mixed {
                     let k0 = self.bvh.pack(p).start;
-                    for_lanes(self.others[p], |lane| {
+                    for_lanes(self.others[p] & !HAS_TRIANGLES, |lane| {
                         if let Some(t) = self.intersect_prim(k0 + lane, ray.o, ray.d, *t_max) {
                             *t_max = t;
                             best = Some((p, lane, t));
@@ -264,16 +284,20 @@ impl Scene {
     /// True when anything lies along the ray within (0, t_max).
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
+        if self.linear {
+            return (0..self.prims.len()).any(|k| self.intersect_prim(k, ray.o, ray.d, ray.t_max).is_some());
+        }
         self.bvh.walk_any(ray, |packs| {
             let r4 = Ray4::new(ray.o, ray.d);
             for p in packs {
-                if self.tri4[p].any(&r4, ray.t_max) {
+                let mixed = !self.others.is_empty();
+                if (!mixed || self.others[p] & HAS_TRIANGLES != 0) && self.tri4[p].any(&r4, ray.t_max) {
                     return Visit::Stop;
                 }
-                if !self.others.is_empty() {
+                if mixed {
                     let k0 = self.bvh.pack(p).start;
                     let mut hit = false;
-                    for_lanes(self.others[p], |lane| {
+                    for_lanes(self.others[p] & !HAS_TRIANGLES, |lane| {
                         hit = hit || self.intersect_prim(k0 + lane, ray.o, ray.d, ray.t_max).is_some();
                     });
                     if hit {
@@ -358,6 +382,20 @@ impl Scene {
     #[inline]
     pub fn environment(&self) -> Option<(usize, &Light)> {
         self.environment.map(|i| (i, &self.lights[i]))
+    }
+
+    /// The environment's radiance along escaping direction `d` and, when `from` is given, the
+    /// density (choice included) with which `sample_light` from there gives `d` (else 0);
+    /// one map lookup serves both. None without an environment.
+    #[inline]
+    pub fn environment_eval(&self, d: Vec3, from: Option<&RefPoint>) -> Option<(Rgb, f32)> {
+        let (le, pdf) = match &self.lights[self.environment?] {
+            Light::Constant(c) => (c.radiance, from.map_or(0.0, |r| c.pdf(r, d))),
+            Light::EnvMap(e) if from.is_some() => e.eval_pdf(d),
+            Light::EnvMap(e) => (e.eval(d), 0.0),
+            _ => return None,
+        };
+        Some((le, pdf * self.light_select_pdf()))
     }
 
     /// Probability of choosing any one light (uniform choice).

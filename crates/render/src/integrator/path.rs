@@ -44,12 +44,10 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler, max_depth: u32, rr
     }
     loop {
         let Some(si) = scene.intersect(&ray) else {
-            if let Some((index, env)) = scene.environment() {
-                let le = env.environment_radiance(ray.d);
-                let w = match &prev {
-                    Some(pv) if !pv.delta => power_heuristic(pv.pdf, scene.light_pdf(index, &pv.r, ray.d, None)),
-                    _ => 1.0,
-                };
+            // The light pdf only where a BRDF sample needs its MIS weight.
+            let from = prev.as_ref().filter(|pv| !pv.delta);
+            if let Some((le, pdf)) = scene.environment_eval(ray.d, from.map(|pv| &pv.r)) {
+                let w = from.map_or(1.0, |pv| power_heuristic(pv.pdf, pdf));
                 result += beta * le * w;
             }
             break;
@@ -89,9 +87,9 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler, max_depth: u32, rr
         if let Some(ls) = scene.sample_light(&r, uc, uc2, u) {
             let wi = si.frame.to_local(ls.wi);
             if usable(wi.z, ls.wi.dot(si.ng)) {
-                let f = brdf.eval(wi, wo);
+                let (f, brdf_pdf) = brdf.eval_pdf(wi, wo);
                 if !f.is_black() && scene.unoccluded(si.p, si.ng, &ls) {
-                    let w = if ls.delta { 1.0 } else { power_heuristic(ls.pdf, brdf.pdf(wi, wo)) };
+                    let w = if ls.delta { 1.0 } else { power_heuristic(ls.pdf, brdf_pdf) };
                     result += beta * f * ls.li * (wi.z.abs() * w / ls.pdf);
                 }
             }

@@ -200,6 +200,18 @@ impl EnvMap {
         })
     }
 
+    /// `eval` and `pdf` together, sharing the direction's cell: bit for bit what each returns.
+    pub fn eval_pdf(&self, d: Vec3) -> (Rgb, f32) {
+        let m = self.to_map(d);
+        let (i, j, f) = self.cell(direction_to_uv(m));
+        let le = self.radiance(i, j, f);
+        let Some(warp) = self.warp.as_ref().filter(|_| self.importance) else {
+            return (le, uniform_sphere_pdf());
+        };
+        let pdf = self.density(warp, i, j, f, (m.x * m.x + m.z * m.z).sqrt());
+        (le, if pdf.is_finite() { pdf } else { 0.0 })
+    }
+
     /// The density of `sample` for direction `d`.
     pub fn pdf(&self, d: Vec3) -> f32 {
         let Some(warp) = self.warp.as_ref().filter(|_| self.importance) else {
@@ -259,6 +271,26 @@ mod tests {
         assert!((env.eval(Vec3::X) - mean(img.get(3, 4), img.get(4, 4))).max_channel().abs() < 1e-5);
         assert!((env.eval(Vec3::Y).0[1] - 0.1).abs() < 1e-6 && (env.eval(-Vec3::Y).0[1] - 0.18).abs() < 1e-6);
         assert!(EnvMap::new(&Image::new(4, 1), 1.0).is_err());
+    }
+
+    #[test]
+    fn eval_pdf_is_eval_and_pdf_bit_for_bit() {
+        let plain = EnvMap::new(&test_map(16, 9), 1.0).unwrap();
+        let rotated = plain.clone().with_rotation(glam::Mat3::from_rotation_x(0.7)).unwrap();
+        let mut rng = Sampler::new(7, 0, 0);
+        for env in [&plain, &rotated] {
+            for i in 0..20_000 {
+                // Poles and the seam included.
+                let d = match i % 100 {
+                    0 => Vec3::Y,
+                    1 => -Vec3::Y,
+                    2 => Vec3::new(0.0, 0.3, -1.0).normalize(),
+                    _ => uniform_sphere(rng.next_2d()),
+                };
+                let (le, pdf) = env.eval_pdf(d);
+                assert_eq!((le, pdf.to_bits()), (env.eval(d), env.pdf(d).to_bits()), "{d}");
+            }
+        }
     }
 
     #[test]
