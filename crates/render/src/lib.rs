@@ -28,6 +28,7 @@ pub mod demo;
 pub mod distribution;
 pub mod envmap_convert;
 pub mod error;
+pub mod film;
 pub mod filter;
 pub mod image;
 pub mod integrator;

@@ -1,6 +1,8 @@
 //! Rendering an image: per-pixel deterministic sample streams, rows in parallel, passes
 //! of growing sample counts so that a cancelled render still holds a whole (noisier) image.
 
+use crate::film::{RowSplats, SplatFilm};
+use crate::filter::Filter;
 use crate::image::Image;
 use crate::integrator::Integrator;
 use crate::sampler::PixelKey;
@@ -57,24 +59,57 @@ fn passes(spp: u32) -> Vec<(u32, u32)> {
     out
 }
 
-/// Renders `scene`: each pixel is the mean of `spp` samples placed by the camera's filter
-/// (uniformly over its area for the box filter; weighted, see `filter.rs`), sample `s` of
-/// pixel `p` drawn from the stream (seed, p, s). `progress` is called from worker threads
-/// after each row of each pass.
+/// Renders `scene`, sample `s` of pixel `p` drawn from the stream (seed, p, s). With the box
+/// filter each pixel is the mean of `spp` samples uniform over its area; with a wider filter
+/// the samples (still uniform over their pixel) are splatted into every pixel the filter
+/// reaches and each pixel is normalised by its summed weights (`film.rs`). `progress` is
+/// called from worker threads after each row of each pass.
 pub fn render(scene: &Scene, opts: &RenderOptions, progress: impl Fn(Progress) + Sync) -> Image {
     let (w, h) = (scene.camera.width as usize, scene.camera.height as usize);
     if w == 0 || h == 0 {
         return Image::new(w as u32, h as u32);
     }
-    let mut sums = vec![[0.0f64; 3]; w * h];
-    let mut row_spp = vec![0u32; h];
-    let total = w as u64 * h as u64 * opts.spp as u64;
-    let done = AtomicU64::new(0);
-    let cancelled = || opts.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed));
-    let work = |sums: &mut Vec<[f64; 3]>, row_spp: &mut Vec<u32>| {
+    let run =
+        Run { scene, opts, progress: &progress, done: AtomicU64::new(0), total: w as u64 * h as u64 * opts.spp as u64 };
+    let work = || match scene.camera.filter {
+        Filter::Box => run.boxed(w, h),
+        _ => run.splatted(w, h),
+    };
+    match rayon::ThreadPoolBuilder::new().num_threads(opts.threads).build() {
+        Ok(pool) => pool.install(work),
+        // No pool could be made (e.g. no threads allowed): run on the global one.
+        Err(_) => work(),
+    }
+}
+
+/// What every row task of a render shares.
+struct Run<'a, P> {
+    scene: &'a Scene,
+    opts: &'a RenderOptions,
+    progress: &'a P,
+    done: AtomicU64,
+    total: u64,
+}
+
+impl<P: Fn(Progress) + Sync> Run<'_, P> {
+    fn cancelled(&self) -> bool {
+        self.opts.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed))
+    }
+
+    fn row_done(&self, w: usize, samples: u32) {
+        let n = w as u64 * samples as u64;
+        let d = self.done.fetch_add(n, Ordering::Relaxed) + n;
+        (self.progress)(Progress { done: d, total: self.total });
+    }
+
+    /// The box filter: each sample counts in its own pixel only.
+    fn boxed(&self, w: usize, h: usize) -> Image {
+        let (scene, opts) = (self.scene, self.opts);
+        let mut sums = vec![[0.0f64; 3]; w * h];
+        let mut row_spp = vec![0u32; h];
         for (s0, s1) in passes(opts.spp) {
             sums.par_chunks_mut(w).zip(row_spp.par_iter_mut()).enumerate().for_each(|(y, (row, count))| {
-                if cancelled() {
+                if self.cancelled() {
                     return;
                 }
                 for (x, acc) in row.iter_mut().enumerate() {
@@ -89,31 +124,60 @@ pub fn render(scene: &Scene, opts: &RenderOptions, progress: impl Fn(Progress) +
                     }
                 }
                 *count = s1;
-                let d = done.fetch_add(w as u64 * (s1 - s0) as u64, Ordering::Relaxed) + w as u64 * (s1 - s0) as u64;
-                progress(Progress { done: d, total });
+                self.row_done(w, s1 - s0);
             });
-            if cancelled() {
+            if self.cancelled() {
                 break;
             }
         }
-    };
-    match rayon::ThreadPoolBuilder::new().num_threads(opts.threads).build() {
-        Ok(pool) => pool.install(|| work(&mut sums, &mut row_spp)),
-        // No pool could be made (e.g. no threads allowed): run on the global one.
-        Err(_) => work(&mut sums, &mut row_spp),
-    }
-    let mut img = Image::new(w as u32, h as u32);
-    for (y, &n) in row_spp.iter().enumerate() {
-        if n == 0 {
-            continue;
+        let mut img = Image::new(w as u32, h as u32);
+        for (y, &n) in row_spp.iter().enumerate() {
+            if n == 0 {
+                continue;
+            }
+            for x in 0..w {
+                let s = sums[y * w + x];
+                img.pixels[y * w + x] =
+                    Rgb::new((s[0] / n as f64) as f32, (s[1] / n as f64) as f32, (s[2] / n as f64) as f32);
+            }
         }
-        for x in 0..w {
-            let s = sums[y * w + x];
-            img.pixels[y * w + x] =
-                Rgb::new((s[0] / n as f64) as f32, (s[1] / n as f64) as f32, (s[2] / n as f64) as f32);
-        }
+        img
     }
-    img
+
+    /// A filter wider than the pixel: samples splat into a `SplatFilm`, band by band of rows.
+    /// A cancelled render keeps what was gathered: each pixel stays a normalised average.
+    fn splatted(&self, w: usize, h: usize) -> Image {
+        let (scene, opts) = (self.scene, self.opts);
+        let mut film = SplatFilm::new(&scene.camera.filter, w, h);
+        let band = film.band_rows();
+        let mut bufs: Vec<RowSplats> = (0..band).map(|_| film.row_splats()).collect();
+        'passes: for (s0, s1) in passes(opts.spp) {
+            for b0 in (0..h).step_by(band) {
+                let rows = &mut bufs[..band.min(h - b0)];
+                rows.par_iter_mut().enumerate().for_each(|(k, buf)| {
+                    let y = b0 + k;
+                    buf.reset(y);
+                    if self.cancelled() {
+                        return;
+                    }
+                    for x in 0..w {
+                        let key = PixelKey::new(opts.seed, (y * w + x) as u64);
+                        for s in s0..s1 {
+                            let mut sampler = key.sampler(s as u64);
+                            let pos = Vec2::new(x as f32, y as f32) + sampler.next_2d();
+                            buf.splat(pos, opts.integrator.li(scene, scene.camera.ray(pos), &mut sampler));
+                        }
+                    }
+                    self.row_done(w, s1 - s0);
+                });
+                film.gather(b0, rows);
+                if self.cancelled() {
+                    break 'passes;
+                }
+            }
+        }
+        film.develop()
+    }
 }
 
 #[cfg(test)]
