@@ -15,7 +15,7 @@
 use crate::combine;
 use crate::fresnel::{self, Fresnel};
 use crate::microfacet::{g1_from_lambda, Distribution, Ndf, Shadowing};
-use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims};
+use crate::model::{reflect_about_half_vector, same_upper_hemisphere, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSpec, Params};
 use crate::registry::ModelSpec;
 use crate::roughness;
@@ -113,30 +113,12 @@ impl Brdf for MicrofacetBrdf {
         if wo.z <= 0.0 {
             return None;
         }
-        let h = self.distribution.sample_visible(wo, u);
-        let wo_h = wo.dot(h);
-        if wo_h <= 0.0 {
-            return None;
-        }
-        // As `reflect_about_half_vector`, with eval and pdf in one pass.
-        let wi = (2.0 * wo_h * h - wo).normalize();
-        sample_from_eval_pdf(wi, self.eval_pdf(wi, wo))
+        reflect_about_half_vector(self, wo, self.distribution.sample_visible(wo, u))
     }
 
     fn claims(&self) -> Claims {
         Claims { reciprocal: true, energy_conserving: true, isotropic: self.distribution.is_isotropic() }
     }
-}
-
-/// Completes a sample of `wi` from the model's own ρ and pdf there, with the same arithmetic as
-/// `sample_from_pdf`: `None` below the surface or without density.
-#[inline]
-pub(crate) fn sample_from_eval_pdf(wi: Vec3, (rho, pdf): (Rgb, f32)) -> Option<BrdfSample> {
-    if wi.z <= 0.0 || !(pdf > 0.0 && pdf.is_finite()) {
-        return None;
-    }
-    let weight = rho * (wi.z / pdf);
-    weight.is_finite().then_some(BrdfSample::reflected(wi, pdf, weight, false))
 }
 
 /// The parameters; `with_distribution` false for the presets that fix it.
@@ -379,7 +361,7 @@ pub(crate) mod tests {
                     assert_eq!(m.eval_pdf(wi, wo), (m.eval(wi, wo), m.pdf(wi, wo)), "{wi} {wo}");
                     let u = Vec2::new(rng.gen(), rng.gen());
                     let generic = if wo.z > 0.0 {
-                        crate::model::reflect_about_half_vector(&m, wo, m.distribution.sample_visible(wo, u))
+                        reflect_about_half_vector(&m, wo, m.distribution.sample_visible(wo, u))
                     } else {
                         None
                     };

@@ -148,17 +148,17 @@ pub fn same_upper_hemisphere(wi: Vec3, wo: Vec3) -> bool {
     wi.z > 0.0 && wo.z > 0.0
 }
 
-/// Completes a sample of `wi`: the pdf and weight come from the model's own `pdf` and `eval`,
-/// so that the three agree exactly. `None` when `wi` is below the surface or has no density.
+/// Completes a sample of `wi`: the pdf and weight come from the model's own `eval_pdf`, so
+/// that the three agree exactly. `None` when `wi` is below the surface or has no density.
 pub fn sample_from_pdf(brdf: &impl Brdf, wi: Vec3, wo: Vec3) -> Option<BrdfSample> {
     if wi.z <= 0.0 {
         return None;
     }
-    let pdf = brdf.pdf(wi, wo);
+    let (rho, pdf) = brdf.eval_pdf(wi, wo);
     if !(pdf > 0.0 && pdf.is_finite()) {
         return None;
     }
-    let weight = brdf.eval(wi, wo) * (wi.z / pdf);
+    let weight = rho * (wi.z / pdf);
     weight.is_finite().then_some(BrdfSample::reflected(wi, pdf, weight, false))
 }
 

@@ -36,7 +36,6 @@
 
 use crate::fresnel;
 use crate::microfacet::{Distribution, Ndf};
-use crate::microfacet_brdf::sample_from_eval_pdf;
 use crate::model::{reflect, reflect_z, same_upper_hemisphere, sample_from_pdf, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSpec, Params};
 use crate::registry::ModelSpec;
@@ -359,7 +358,7 @@ impl Brdf for RoughPlastic {
         } else {
             cosine_hemisphere(u)
         };
-        sample_from_eval_pdf(wi, self.eval_pdf(wi, wo))
+        sample_from_pdf(self, wi, wo)
     }
 
     fn claims(&self) -> Claims {
