@@ -204,23 +204,23 @@ impl EnvMap {
     pub fn eval_pdf(&self, d: Vec3) -> (Rgb, f32) {
         let m = self.to_map(d);
         let (i, j, f) = self.cell(direction_to_uv(m));
-        let le = self.radiance(i, j, f);
-        let Some(warp) = self.warp.as_ref().filter(|_| self.importance) else {
-            return (le, uniform_sphere_pdf());
-        };
-        let pdf = self.density(warp, i, j, f, (m.x * m.x + m.z * m.z).sqrt());
-        (le, if pdf.is_finite() { pdf } else { 0.0 })
+        (self.radiance(i, j, f), self.pdf_in_cell(m, i, j, f))
     }
 
     /// The density of `sample` for direction `d`.
     pub fn pdf(&self, d: Vec3) -> f32 {
+        let m = self.to_map(d);
+        let (i, j, f) = self.cell(direction_to_uv(m));
+        self.pdf_in_cell(m, i, j, f)
+    }
+
+    /// The density of `sample` for map direction `m`, at place `f` of its cell (i, j).
+    #[inline]
+    fn pdf_in_cell(&self, m: Vec3, i: usize, j: usize, f: Vec2) -> f32 {
         let Some(warp) = self.warp.as_ref().filter(|_| self.importance) else {
             return uniform_sphere_pdf();
         };
-        let d = self.to_map(d);
-        let sin_t = (d.x * d.x + d.z * d.z).sqrt();
-        let (i, j, f) = self.cell(direction_to_uv(d));
-        let pdf = self.density(warp, i, j, f, sin_t);
+        let pdf = self.density(warp, i, j, f, (m.x * m.x + m.z * m.z).sqrt());
         if pdf.is_finite() {
             pdf
         } else {
