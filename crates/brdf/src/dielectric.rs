@@ -23,7 +23,7 @@
 //! parameter names and defaults.
 
 use crate::fresnel;
-use crate::model::{reflect_z, Brdf, BrdfSample, Claims};
+use crate::model::{reflect_z, refract, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSpec, Params};
 use crate::registry::ModelSpec;
 use radiometry::{Rgb, Vec2, Vec3};
@@ -39,29 +39,14 @@ pub struct Dielectric {
     pub transmittance: Rgb,
 }
 
-/// The direction refracted from `wo` through the plane z = 0, η_t the index of the far side
-/// over that of `wo`'s side, and cos θt; None under total internal reflection.
+/// η_t seen from a direction with this cos θ, for an interface of relative index `eta` (below
+/// over above): the index across the surface over the index on the direction's side.
 #[inline]
-pub fn refract_z(wo: Vec3, eta_t: f32) -> Option<(Vec3, f32)> {
-    let cos_o = wo.z;
-    let sin2_t = (1.0 - cos_o * cos_o).max(0.0) / (eta_t * eta_t);
-    if sin2_t.is_nan() || sin2_t >= 1.0 {
-        return None;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    let inv = 1.0 / eta_t;
-    Some((Vec3::new(-wo.x * inv, -wo.y * inv, -cos_t.copysign(cos_o)), cos_t))
-}
-
-impl Dielectric {
-    /// η_t seen from `wo`'s side: the index across the surface over the index on its side.
-    #[inline]
-    pub fn eta_from(&self, cos_o: f32) -> f32 {
-        if cos_o > 0.0 {
-            self.eta
-        } else {
-            1.0 / self.eta
-        }
+pub fn eta_seen_from(eta: f32, cos: f32) -> f32 {
+    if cos > 0.0 {
+        eta
+    } else {
+        1.0 / eta
     }
 }
 
@@ -84,8 +69,8 @@ impl Brdf for Dielectric {
         if uc < f {
             return Some(BrdfSample::reflected(reflect_z(wo), f, self.reflectance, true));
         }
-        let eta_t = self.eta_from(cos_o);
-        let (wi, _) = refract_z(wo, eta_t)?;
+        let eta_t = eta_seen_from(self.eta, cos_o);
+        let wi = refract(wo, Vec3::Z, eta_t)?;
         let weight = self.transmittance * (1.0 / (eta_t * eta_t));
         Some(BrdfSample { wi, pdf: 1.0 - f, weight, delta: true, eta: eta_t })
     }
@@ -226,11 +211,11 @@ mod tests {
     }
 
     #[test]
-    fn refract_z_agrees_with_fresnel_on_total_internal_reflection() {
+    fn refraction_agrees_with_fresnel_on_total_internal_reflection() {
         for cos in [-1.0f32, -0.9, -0.75, -0.7, -0.5, -0.1, 0.1, 0.5, 1.0] {
             let wo = Vec3::new((1.0 - cos * cos).sqrt(), 0.0, cos);
             let eta_t = if cos > 0.0 { 1.5 } else { 1.0 / 1.5 };
-            let tir = refract_z(wo, eta_t).is_none();
+            let tir = refract(wo, Vec3::Z, eta_t).is_none();
             assert_eq!(tir, fresnel::dielectric(cos, 1.5) == 1.0, "cos {cos}");
         }
     }

@@ -142,6 +142,20 @@ pub fn reflect(w: Vec3, n: Vec3) -> Vec3 {
     2.0 * w.dot(n) * n - w
 }
 
+/// Refraction of the unit vector `w` through a surface of unit normal `n` (either side), η_t
+/// the index of the far side over that of `w`'s side: −w/η_t + (c/η_t − sgn(c) cos θt) n with
+/// c = w·n, cos²θt = 1 − (1 − c²)/η_t². None under total internal reflection.
+#[inline]
+pub fn refract(w: Vec3, n: Vec3, eta_t: f32) -> Option<Vec3> {
+    let c = w.dot(n);
+    let sin2_t = (1.0 - c * c).max(0.0) / (eta_t * eta_t);
+    if sin2_t.is_nan() || sin2_t >= 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    Some(-w / eta_t + (c / eta_t - cos_t.copysign(c)) * n)
+}
+
 /// True when both directions are strictly above the surface.
 #[inline]
 pub fn same_upper_hemisphere(wi: Vec3, wo: Vec3) -> bool {

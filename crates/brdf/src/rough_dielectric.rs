@@ -36,10 +36,10 @@
 //! BSDFs using the Distribution of Visible Normals", EGSR 2014; Mitsuba 3,
 //! `src/bsdfs/roughdielectric.cpp`, for the conventions, names and defaults.
 
-use crate::dielectric::{eta_from_params, interface_params};
+use crate::dielectric::{eta_from_params, eta_seen_from, interface_params};
 use crate::fresnel;
 use crate::microfacet::{Distribution, Ndf};
-use crate::model::{Brdf, BrdfSample, Claims};
+use crate::model::{refract, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSpec, Params};
 use crate::registry::ModelSpec;
 use crate::roughness;
@@ -68,16 +68,6 @@ struct Geometry {
 }
 
 impl RoughDielectric {
-    /// η_t seen from a direction with this cos θ.
-    #[inline]
-    fn eta_from(&self, cos: f32) -> f32 {
-        if cos > 0.0 {
-            self.eta
-        } else {
-            1.0 / self.eta
-        }
-    }
-
     /// Smith masking of `v` by facet `m`: zero unless `v` sees `m` from its own side.
     #[inline]
     fn g1(&self, v: Vec3, m: Vec3) -> f32 {
@@ -97,7 +87,7 @@ impl RoughDielectric {
             return None;
         }
         let reflect = cos_i * cos_o > 0.0;
-        let eta_t = if reflect { 1.0 } else { self.eta_from(cos_o) };
+        let eta_t = if reflect { 1.0 } else { eta_seen_from(self.eta, cos_o) };
         let h = wo + wi * eta_t;
         let m = h.try_normalize()?;
         let m = if m.z < 0.0 { -m } else { m };
@@ -172,14 +162,8 @@ impl Brdf for RoughDielectric {
             }
             (wi, pm * f / (4.0 * wi.dot(m).abs()), self.reflectance * self.g1(wi, m), 1.0)
         } else {
-            let eta_t = self.eta_from(wo_m);
-            let c = wo_m.abs();
-            let sin2_t = (1.0 - c * c).max(0.0) / (eta_t * eta_t);
-            if sin2_t.is_nan() || sin2_t >= 1.0 {
-                return None;
-            }
-            let cos_t = (1.0 - sin2_t).sqrt();
-            let wi = (-wo / eta_t + (wo_m / eta_t - cos_t.copysign(wo_m)) * m).normalize();
+            let eta_t = eta_seen_from(self.eta, wo_m);
+            let wi = refract(wo, m, eta_t)?.normalize();
             if wi.z * cos_o >= 0.0 {
                 return None;
             }

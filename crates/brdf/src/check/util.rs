@@ -83,8 +83,8 @@ pub(crate) fn near(axis: Vec3, rng: &mut Pcg32) -> Vec3 {
 /// (below over above), or the mirror direction under total internal reflection: where a
 /// transmitted lobe is centred.
 pub(crate) fn refracted(wo: Vec3, eta: f32) -> Vec3 {
-    let eta_t = if wo.z > 0.0 { eta } else { 1.0 / eta };
-    crate::dielectric::refract_z(wo, eta_t).map_or(Vec3::new(-wo.x, -wo.y, wo.z), |(w, _)| w)
+    let eta_t = crate::dielectric::eta_seen_from(eta, wo.z);
+    crate::model::refract(wo, Vec3::Z, eta_t).unwrap_or(Vec3::new(-wo.x, -wo.y, wo.z))
 }
 
 /// Rotation of `w` by `angle` about the normal, in f64 and rounded once.
