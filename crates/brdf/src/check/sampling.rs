@@ -176,11 +176,7 @@ pub fn sampling(brdf: &dyn Brdf, cfg: &Config) -> Finding {
                 bad.add(|| format!("wi where the model sends no light, z = {:e} ({})", s.wi.z, at()));
                 continue;
             }
-            let want_eta = match (s.wi.z * wo.z < 0.0, wo.z > 0.0) {
-                (false, _) => 1.0,
-                (true, true) => eta,
-                (true, false) => 1.0 / eta,
-            };
+            let want_eta = if s.wi.z * wo.z < 0.0 { crate::dielectric::eta_seen_from(eta, wo.z) } else { 1.0 };
             if rel_diff1(s.eta, want_eta).unwrap_or(0.0) > util::BASE_TOL {
                 bad.add(|| format!("sample eta {} but the sides crossed give {want_eta} ({})", s.eta, at()));
             }
