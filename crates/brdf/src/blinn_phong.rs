@@ -28,8 +28,8 @@
 //! 2008, §7.6; F. Giesen, "Derivation of Phong and Blinn-Phong BRDF normalization factors", 2009.
 
 use crate::combine;
-use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims};
-use crate::params::{ParamError, ParamSpec, Params};
+use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims, PhongTerms};
+use crate::params::{ParamError, ParamSource, ParamSpec};
 use crate::phong::lobe_params;
 use crate::phong::{cos_power_hemisphere, RAW_COS_FLOOR};
 use crate::registry::ModelSpec;
@@ -147,6 +147,10 @@ impl Brdf for BlinnPhong {
             }
         }
     }
+
+    fn phong_terms(&self) -> Option<PhongTerms> {
+        Some(PhongTerms { ka: Rgb::ZERO, kd: Rgb::ZERO, ks: self.ks, ke: self.ke, half_vector: true })
+    }
 }
 
 fn raw_params() -> Vec<ParamSpec> {
@@ -157,17 +161,17 @@ fn modified_params() -> Vec<ParamSpec> {
     lobe_params(false, "Blinn-Phong exponent k_e on N·H: larger is shinier")
 }
 
-fn build_form(p: &Params, form: BlinnPhongForm) -> Result<Box<dyn Brdf>, ParamError> {
+fn make(p: &dyn ParamSource, form: BlinnPhongForm) -> Result<combine::DiffuseGlossy<BlinnPhong>, ParamError> {
     let lobe = BlinnPhong { ks: p.rgb("ks"), ke: p.float("ke"), form };
-    Ok(combine::with_diffuse(p, Box::new(lobe), lobe.max_albedo()))
+    Ok(combine::with_diffuse(p, lobe, lobe.max_albedo()))
 }
 
-fn build_raw(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
-    build_form(p, BlinnPhongForm::Raw)
+fn make_raw(p: &dyn ParamSource) -> Result<combine::DiffuseGlossy<BlinnPhong>, ParamError> {
+    make(p, BlinnPhongForm::Raw)
 }
 
-fn build_modified(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
-    build_form(p, BlinnPhongForm::Modified)
+fn make_modified(p: &dyn ParamSource) -> Result<combine::DiffuseGlossy<BlinnPhong>, ParamError> {
+    make(p, BlinnPhongForm::Modified)
 }
 
 /// Registry entry: the lecture's raw Blinn-Phong.
@@ -176,7 +180,7 @@ pub const SPEC: ModelSpec = ModelSpec {
     summary: "the lecture's Blinn-Phong term as a BRDF, k_s (N·H)^k_e / cos θi: not reciprocal, not energy conserving",
     reference: "Blinn 1977, Models of Light Reflection for Computer Synthesized Pictures",
     params: raw_params,
-    build: build_raw,
+    build: crate::registry::by_value!(make_raw),
     // A broad lobe: albedo 8π(1 − 2^(−3/2))/3 ≈ 5.4 k_s at normal incidence.
     showcase: &[&[("ks", "1"), ("ke", "2")]],
 };
@@ -187,7 +191,7 @@ pub const MODIFIED_SPEC: ModelSpec = ModelSpec {
     summary: "normalised Blinn-Phong k_s (k_e+8)/(8π) (N·H)^k_e: reciprocal; energy claimed while k_s·albedo(k_e) ≤ 1",
     reference: "Akenine-Möller, Haines & Hoffman 2008, Real-Time Rendering 3rd ed. §7.6; Giesen 2009",
     params: modified_params,
-    build: build_modified,
+    build: crate::registry::by_value!(make_modified),
     // k_e = 9 is where the approximate normalisation overshoots most (albedo 1.076 at k_s = 1,
     // energy not claimed); k_s = 0.92 is just under the bound and claims it; a sharp lobe on
     // a diffuse one.

@@ -4,10 +4,11 @@
 //! P = a_d / (a_d + a_s), where a_d is the diffuse albedo and a_s an estimate of the glossy
 //! lobe's albedo, and the density is the mixture P·pdf_d + (1 − P)·pdf_s, so the weight
 //! ρ cos θi / pdf stays exact whichever lobe was drawn (Veach 1997, one-sample MIS).
+//! With a black diffuse lobe the sum is the glossy lobe itself, bit for bit.
 
 use crate::lambert::Lambert;
-use crate::model::{Brdf, BrdfSample, Claims};
-use crate::params::{ParamSpec, Params};
+use crate::model::{Brdf, BrdfSample, Claims, PhongTerms};
+use crate::params::{ParamSource, ParamSpec};
 use radiometry::{Rgb, Vec2, Vec3};
 
 /// The `diffuse` parameter every glossy model takes: the albedo of an added Lambert lobe.
@@ -15,34 +16,31 @@ pub fn diffuse_param() -> ParamSpec {
     ParamSpec::rgb("diffuse", 0.0, 1.0, 0.0, "albedo of an added Lambert lobe (ρ_d); 0 for none")
 }
 
-/// `glossy`, plus a Lambert lobe when the resolved `diffuse` parameter is not black.
+/// `glossy` plus the Lambert lobe of the resolved `diffuse` parameter (none when it is black).
 /// `specular_albedo` is an upper estimate of the glossy lobe's albedo (its largest reflectance),
 /// used for the lobe-selection probability and the energy claim.
-pub fn with_diffuse(p: &Params, glossy: Box<dyn Brdf>, specular_albedo: f32) -> Box<dyn Brdf> {
-    let albedo = p.rgb("diffuse");
-    if albedo.is_black() {
-        glossy
-    } else {
-        Box::new(DiffuseGlossy::new(Lambert { albedo }, glossy, specular_albedo))
-    }
+pub fn with_diffuse<G: Brdf>(p: &dyn ParamSource, glossy: G, specular_albedo: f32) -> DiffuseGlossy<G> {
+    DiffuseGlossy::new(Lambert { albedo: p.rgb("diffuse") }, glossy, specular_albedo)
 }
 
 /// A Lambert lobe plus a glossy lobe, sampled by lobe selection.
-#[derive(Debug)]
-pub struct DiffuseGlossy {
-    diffuse: Lambert,
-    glossy: Box<dyn Brdf>,
+#[derive(Clone, Copy, Debug)]
+pub struct DiffuseGlossy<G> {
+    /// None when the diffuse albedo is black.
+    diffuse: Option<Lambert>,
+    glossy: G,
     glossy_albedo: f32,
     p_diffuse: f32,
 }
 
-impl DiffuseGlossy {
+impl<G: Brdf> DiffuseGlossy<G> {
     /// Combines the two lobes; `specular_albedo` estimates the glossy lobe's albedo.
-    pub fn new(diffuse: Lambert, glossy: Box<dyn Brdf>, specular_albedo: f32) -> Self {
+    pub fn new(diffuse: Lambert, glossy: G, specular_albedo: f32) -> Self {
         let d = diffuse.albedo.mean().max(0.0);
         let s = specular_albedo.max(0.0);
         let p_diffuse = if d + s > 0.0 { (d / (d + s)).clamp(0.05, 0.95) } else { 0.5 };
-        DiffuseGlossy { diffuse, glossy, glossy_albedo: s, p_diffuse }
+        let diffuse = (!diffuse.albedo.is_black()).then_some(diffuse);
+        DiffuseGlossy { diffuse, glossy, glossy_albedo: s, p_diffuse: if diffuse.is_some() { p_diffuse } else { 0.0 } }
     }
 
     /// Probability of sampling the diffuse lobe.
@@ -51,19 +49,33 @@ impl DiffuseGlossy {
     }
 }
 
-impl Brdf for DiffuseGlossy {
+impl<G: Brdf> Brdf for DiffuseGlossy<G> {
     fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
-        self.diffuse.eval(wi, wo) + self.glossy.eval(wi, wo)
+        match &self.diffuse {
+            Some(d) => d.eval(wi, wo) + self.glossy.eval(wi, wo),
+            None => self.glossy.eval(wi, wo),
+        }
     }
 
     fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
-        self.p_diffuse * self.diffuse.pdf(wi, wo) + (1.0 - self.p_diffuse) * self.glossy.pdf(wi, wo)
+        match &self.diffuse {
+            Some(d) => self.p_diffuse * d.pdf(wi, wo) + (1.0 - self.p_diffuse) * self.glossy.pdf(wi, wo),
+            None => self.glossy.pdf(wi, wo),
+        }
+    }
+
+    fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
+        match &self.diffuse {
+            Some(_) => (self.eval(wi, wo), self.pdf(wi, wo)),
+            None => self.glossy.eval_pdf(wi, wo),
+        }
     }
 
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample> {
+        let Some(diffuse) = &self.diffuse else { return self.glossy.sample(wo, uc, u) };
         let pd = self.p_diffuse;
         let s = if uc < pd {
-            self.diffuse.sample(wo, uc / pd, u)?
+            diffuse.sample(wo, uc / pd, u)?
         } else {
             let s = self.glossy.sample(wo, ((uc - pd) / (1.0 - pd)).min(1.0 - f32::EPSILON), u)?;
             if s.delta {
@@ -82,13 +94,21 @@ impl Brdf for DiffuseGlossy {
 
     fn claims(&self) -> Claims {
         let g = self.glossy.claims();
+        let Some(d) = &self.diffuse else { return g };
         // Adding a lobe can push the albedo past 1: the sum is claimed conserving only when
         // the glossy lobe is and the two albedos cannot add past 1.
-        let bounded = self.diffuse.albedo.max_channel() + self.glossy_albedo <= 1.0;
+        let bounded = d.albedo.max_channel() + self.glossy_albedo <= 1.0;
         Claims { energy_conserving: g.energy_conserving && bounded, ..g }
     }
 
     fn has_delta(&self) -> bool {
         self.glossy.has_delta()
+    }
+
+    fn phong_terms(&self) -> Option<PhongTerms> {
+        let g = self.glossy.phong_terms()?;
+        let Some(d) = &self.diffuse else { return Some(g) };
+        let base = PhongTerms::diffuse(d.albedo);
+        Some(PhongTerms { ka: base.ka + g.ka, kd: base.kd + g.kd, ..g })
     }
 }

@@ -17,8 +17,8 @@ use crate::combine;
 use crate::fresnel::{self, Fresnel};
 use crate::microfacet::{Beckmann, Ndf};
 use crate::model::{reflect_about_half_vector, same_upper_hemisphere, Brdf, BrdfSample, Claims};
-use crate::params::{ParamError, ParamSpec, Params};
-use crate::registry::ModelSpec;
+use crate::params::{ParamError, ParamSource, ParamSpec};
+use crate::registry::{by_value, ModelSpec};
 use radiometry::{Rgb, Vec2, Vec3};
 
 /// The Cook-Torrance specular lobe.
@@ -116,10 +116,10 @@ fn params() -> Vec<ParamSpec> {
     v
 }
 
-fn build(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
+fn make(p: &dyn ParamSource) -> Result<combine::DiffuseGlossy<CookTorrance>, ParamError> {
     let fresnel = fresnel::from_params(p)?;
     let lobe = CookTorrance::new(p.float("m"), fresnel);
-    Ok(combine::with_diffuse(p, Box::new(lobe), fresnel.max_reflectance()))
+    Ok(combine::with_diffuse(p, lobe, fresnel.max_reflectance()))
 }
 
 /// Registry entry.
@@ -128,7 +128,7 @@ pub const SPEC: ModelSpec = ModelSpec {
     summary: "Cook-Torrance: Beckmann D, V-groove G, Fresnel F, ρ = DGF/(4 cos θi cos θo) + ρ_d/π",
     reference: "Cook & Torrance 1982, A Reflectance Model for Computer Graphics",
     params,
-    build,
+    build: by_value!(make),
     showcase: &[
         &[("m", "0.05")],
         &[("m", "1")],
@@ -179,6 +179,7 @@ mod tests {
             distribution: Distribution::Beckmann(Beckmann::new(m, m)),
             shadowing: Shadowing::Correlated,
             fresnel: f,
+            tint: Rgb::ONE,
         };
         let closed = 0.04 / (4.0 * std::f32::consts::PI * m * m);
         for v in [ct.eval(Vec3::Z, Vec3::Z).0[0], mf.eval(Vec3::Z, Vec3::Z).0[0]] {

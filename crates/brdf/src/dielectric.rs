@@ -24,8 +24,8 @@
 
 use crate::fresnel;
 use crate::model::{reflect_z, refract, Brdf, BrdfSample, Claims};
-use crate::params::{ParamError, ParamSpec, Params};
-use crate::registry::ModelSpec;
+use crate::params::{ParamError, ParamSource, ParamSpec};
+use crate::registry::{by_value, ModelSpec};
 use radiometry::{Rgb, Vec2, Vec3};
 
 /// A smooth dielectric interface.
@@ -105,36 +105,24 @@ pub const DEFAULT_EXT_IOR: f64 = 1.000277;
 /// `roughdielectric`.
 pub fn interface_params() -> Vec<ParamSpec> {
     vec![
-        ParamSpec::float(
-            "int_ior",
-            1.0,
-            10.0,
-            DEFAULT_INT_IOR,
-            "index of refraction inside, below the surface (BK7 1.5046)",
-        ),
-        ParamSpec::float(
-            "ext_ior",
-            1.0,
-            10.0,
-            DEFAULT_EXT_IOR,
-            "index of refraction outside, above the surface (air 1.000277)",
-        ),
+        crate::ior::param("int_ior", DEFAULT_INT_IOR, "index of refraction inside, below the surface (BK7 1.5046)"),
+        crate::ior::param("ext_ior", DEFAULT_EXT_IOR, "index of refraction outside, above the surface (air 1.000277)"),
         ParamSpec::rgb("specular_reflectance", 0.0, 1.0, 1.0, "tint of the reflected light (1 is physical)"),
         ParamSpec::rgb("specular_transmittance", 0.0, 1.0, 1.0, "tint of the transmitted light (1 is physical)"),
     ]
 }
 
 /// The relative index int_ior / ext_ior.
-pub fn eta_from_params(p: &Params) -> f32 {
+pub fn eta_from_params(p: &dyn ParamSource) -> f32 {
     (p.float("int_ior") as f64 / p.float("ext_ior") as f64) as f32
 }
 
-fn build(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
-    Ok(Box::new(Dielectric {
+fn make(p: &dyn ParamSource) -> Result<Dielectric, ParamError> {
+    Ok(Dielectric {
         eta: eta_from_params(p),
         reflectance: p.rgb("specular_reflectance"),
         transmittance: p.rgb("specular_transmittance"),
-    }))
+    })
 }
 
 /// Registry entry.
@@ -143,7 +131,7 @@ pub const SPEC: ModelSpec = ModelSpec {
     summary: "smooth glass: Fresnel-weighted delta reflection and refraction, total internal reflection (transmits)",
     reference: "Born & Wolf, Principles of Optics, §1.5; Veach 1997, §5.2 (radiance across an interface)",
     params: interface_params,
-    build,
+    build: by_value!(make),
     showcase: &[
         &[("int_ior", "1"), ("ext_ior", "1.333")],
         &[("int_ior", "2.419"), ("specular_transmittance", "0.9,0.6,0.3")],

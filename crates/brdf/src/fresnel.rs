@@ -18,7 +18,7 @@
 //! (`data/ior/Ag.{eta,k}.spd`) by the same CIE 1931 → linear sRGB reduction; the test in
 //! `fresnel/spectral.rs` shows that reduction reproduces Au, Cu and Al to 1e-6 (f32 rounding).
 
-use crate::params::{ParamError, ParamSpec, Params};
+use crate::params::{ParamError, ParamSource, ParamSpec};
 use glam::Vec3A;
 use radiometry::Rgb;
 
@@ -248,8 +248,9 @@ impl Fresnel {
 
 /// The `fresnel` modes, as the parameter lists them.
 pub const MODES: &[&str] = &["none", "schlick", "dielectric", "conductor"];
-/// The `material` choices.
-pub const MATERIALS: &[&str] = &["custom", "Au", "Ag", "Cu", "Al"];
+/// The `material` choices: `custom` (use `eta` and `k`), `none` (a perfect reflector, F = 1,
+/// Mitsuba's default conductor) and the named metals.
+pub const MATERIALS: &[&str] = &["custom", "none", "Au", "Ag", "Cu", "Al"];
 
 /// Default `eta` when the default mode is not `conductor`: crown glass.
 pub const DEFAULT_DIELECTRIC_ETA: f32 = 1.5;
@@ -261,7 +262,8 @@ pub const DEFAULT_DIELECTRIC_ETA: f32 = 1.5;
 /// How they combine ([`from_params`]): `none` ignores the rest; `dielectric` uses the mean of
 /// the three `eta` channels and ignores `k`; `schlick` uses R0 = ((η−1)² + k²)/((η+1)² + k²)
 /// per channel (the dielectric ((n−1)/(n+1))² when k = 0); `conductor` uses `eta` and `k`
-/// per channel. A `material` other than `custom` implies a conductor and supplies η and k.
+/// per channel. A named `material` implies a conductor and supplies η and k; `material=none`
+/// is a perfect reflector (F = 1) unless `eta` or `k` is given with it left at its default.
 pub fn params(default_mode: &str) -> Vec<ParamSpec> {
     assert!(MODES.contains(&default_mode), "unknown Fresnel mode '{default_mode}'");
     let (eta, k) =
@@ -269,60 +271,58 @@ pub fn params(default_mode: &str) -> Vec<ParamSpec> {
     let rgb = |c: Rgb| crate::params::Value::Rgb(c.0.map(|v| v as f64));
     vec![
         ParamSpec::choice("fresnel", MODES, default_mode, "Fresnel term: none (F=1), schlick, dielectric or conductor"),
-        ParamSpec {
-            default: rgb(eta),
-            ..ParamSpec::rgb(
-                "eta",
-                0.01,
-                10.0,
-                0.0,
-                "relative index of refraction η (dielectric: mean of the channels; schlick and conductor: per channel)",
-            )
-        },
-        ParamSpec {
-            default: rgb(k),
-            ..ParamSpec::rgb("k", 0.0, 20.0, 0.0, "extinction coefficient k of a conductor (ignored by dielectric)")
-        },
+        ParamSpec::rgb(
+            "eta",
+            0.01,
+            10.0,
+            0.0,
+            "relative index of refraction η (dielectric: mean of the channels; schlick and conductor: per channel)",
+        )
+        .with_default(rgb(eta)),
+        ParamSpec::rgb("k", 0.0, 20.0, 0.0, "extinction coefficient k of a conductor (ignored by dielectric)")
+            .with_default(rgb(k)),
         ParamSpec::choice(
             "material",
             MATERIALS,
             "custom",
-            "a named conductor (implies fresnel=conductor and sets eta, k); custom uses eta and k",
+            "a named conductor (implies fresnel=conductor and sets eta, k); none: F = 1; custom uses eta and k",
         ),
     ]
 }
 
-/// True when `v` equals one of the defaults `params` can give `eta` or `k`: a value that
-/// is none of them was given by the user.
-fn is_a_default(v: Rgb, defaults: [Rgb; 2]) -> bool {
-    defaults.iter().any(|d| (0..3).all(|c| (v.0[c] - d.0[c]).abs() <= 1e-6 * d.0[c].abs().max(1.0)))
-}
-
 /// Builds the Fresnel term from resolved [`params`].
-pub fn from_params(p: &Params) -> Result<Fresnel, ParamError> {
+pub fn from_params(p: &dyn ParamSource) -> Result<Fresnel, ParamError> {
     let mode = p.choice("fresnel");
     let material = p.choice("material");
-    let (mut eta, mut k) = (p.rgb("eta"), p.rgb("k"));
+    let (eta, k) = (p.rgb("eta"), p.rgb("k"));
+    let eta_or_k = p.was_given("eta") || p.was_given("k");
     if let Some(m) = metal(material) {
         if mode == "none" {
             return Err(ParamError::Inconsistent(format!(
                 "parameters 'material' and 'fresnel': material={material} needs a Fresnel term, but fresnel=none"
             )));
         }
-        let given_eta = !is_a_default(eta, [AU.eta, Rgb::splat(DEFAULT_DIELECTRIC_ETA)]);
-        let given_k = !is_a_default(k, [AU.k, Rgb::ZERO]);
-        if given_eta || given_k {
+        if eta_or_k {
             return Err(ParamError::Inconsistent(format!(
                 "parameters 'material', 'eta' and 'k': material={material} sets eta and k; \
                  use material=custom to give them yourself"
             )));
         }
-        eta = m.eta;
-        k = m.k;
         if mode == "schlick" {
-            return Ok(Fresnel::Schlick { r0: eta.zip(k, normal_reflectance) });
+            return Ok(Fresnel::Schlick { r0: m.eta.zip(m.k, normal_reflectance) });
         }
-        return Ok(Fresnel::Conductor { eta, k });
+        return Ok(Fresnel::Conductor { eta: m.eta, k: m.k });
+    }
+    if material == "none" {
+        if !eta_or_k {
+            return Ok(Fresnel::None);
+        }
+        if p.was_given("material") {
+            return Err(ParamError::Inconsistent(
+                "parameters 'material', 'eta' and 'k': material=none is a perfect reflector and takes no eta or k"
+                    .into(),
+            ));
+        }
     }
     Ok(match mode {
         "none" => Fresnel::None,
@@ -472,7 +472,7 @@ mod tests {
     }
 
     fn resolve(default_mode: &str, given: &[(&str, &str)]) -> Result<Fresnel, ParamError> {
-        from_params(&Params::resolve("m", &params(default_mode), given)?)
+        from_params(&crate::params::Params::resolve("m", &params(default_mode), given)?)
     }
 
     #[test]
@@ -507,6 +507,16 @@ mod tests {
         let e = resolve("dielectric", &[("material", "Cu"), ("k", "2")]).unwrap_err().to_string();
         assert!(e.contains("'k'"), "{e}");
         assert!(resolve("conductor", &[("material", "Pt")]).is_err());
+        // Mitsuba's conductor: material none is F = 1, unless eta and k are given instead.
+        assert_eq!(resolve("conductor", &[("material", "none")]).unwrap(), Fresnel::None);
+        let e = resolve("conductor", &[("material", "none"), ("k", "2")]).unwrap_err().to_string();
+        assert!(e.contains("none"), "{e}");
+        let spec: Vec<ParamSpec> = params("conductor")
+            .into_iter()
+            .map(|s| if s.name == "material" { s.with_default(crate::Value::Choice("none".into())) } else { s })
+            .collect();
+        let p = crate::params::Params::resolve("m", &spec, &[("eta", "0.2"), ("k", "3")]).unwrap();
+        assert_eq!(from_params(&p).unwrap(), Fresnel::Conductor { eta: Rgb::splat(0.2), k: Rgb::splat(3.0) });
     }
 
     #[test]

@@ -6,9 +6,9 @@
 //! Sampling: cosine-weighted hemisphere, so the weight ρ cos θi / pdf is exactly `a`.
 //! Source: J. H. Lambert, *Photometria*, 1760.
 
-use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims};
-use crate::params::{ParamError, ParamSpec, Params};
-use crate::registry::ModelSpec;
+use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims, PhongTerms};
+use crate::params::{ParamError, ParamSource, ParamSpec};
+use crate::registry::{by_value, ModelSpec};
 use radiometry::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
 use radiometry::{Rgb, Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
@@ -49,14 +49,18 @@ impl Brdf for Lambert {
     fn claims(&self) -> Claims {
         Claims::PLAUSIBLE
     }
+
+    fn phong_terms(&self) -> Option<PhongTerms> {
+        Some(PhongTerms::diffuse(self.albedo))
+    }
 }
 
 fn params() -> Vec<ParamSpec> {
     vec![ParamSpec::rgb("albedo", 0.0, 1.0, 0.8, "diffuse albedo a; the lecture's k_d = a/π (1/sr)")]
 }
 
-fn build(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
-    Ok(Box::new(Lambert { albedo: p.rgb("albedo") }))
+fn make(p: &dyn ParamSource) -> Result<Lambert, ParamError> {
+    Ok(Lambert { albedo: p.rgb("albedo") })
 }
 
 /// Registry entry.
@@ -65,7 +69,7 @@ pub const SPEC: ModelSpec = ModelSpec {
     summary: "ideal diffuse reflection, ρ = albedo/π",
     reference: "Lambert 1760, Photometria",
     params,
-    build,
+    build: by_value!(make),
     showcase: &[&[("albedo", "1")]],
 };
 

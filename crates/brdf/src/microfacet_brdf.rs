@@ -16,8 +16,8 @@ use crate::combine;
 use crate::fresnel::{self, Fresnel};
 use crate::microfacet::{g1_from_lambda, Distribution, Ndf, Shadowing};
 use crate::model::{reflect_about_half_vector, same_upper_hemisphere, Brdf, BrdfSample, Claims};
-use crate::params::{ParamError, ParamSpec, Params};
-use crate::registry::ModelSpec;
+use crate::params::{ParamError, ParamSource, ParamSpec};
+use crate::registry::{by_value, ModelSpec};
 use crate::roughness;
 use radiometry::{Rgb, Vec2, Vec3};
 
@@ -32,6 +32,8 @@ pub struct MicrofacetBrdf {
     pub shadowing: Shadowing,
     /// Reflectance of one facet.
     pub fresnel: Fresnel,
+    /// A tint multiplying it (1 is physical; Mitsuba's `specular_reflectance`).
+    pub tint: Rgb,
 }
 
 impl MicrofacetBrdf {
@@ -56,7 +58,7 @@ impl MicrofacetBrdf {
         if g <= 0.0 || denom <= 0.0 {
             return Rgb::ZERO;
         }
-        let v = self.fresnel.eval(cos_d) * (d * g / denom);
+        let v = self.fresnel.eval(cos_d) * self.tint * (d * g / denom);
         if v.is_finite() {
             v
         } else {
@@ -140,6 +142,7 @@ fn params_with(with_distribution: bool) -> Vec<ParamSpec> {
     // A lone microfacet lobe is a metal: gold shows what the Fresnel term does, where a
     // dielectric would reflect 4% and look black without a diffuse lobe under it.
     v.extend(fresnel::params("conductor"));
+    v.push(ParamSpec::rgb("reflectance", 0.0, 1.0, 1.0, "tint R multiplying the Fresnel term (1 is physical)"));
     v.push(combine::diffuse_param());
     v
 }
@@ -153,7 +156,7 @@ fn preset_params() -> Vec<ParamSpec> {
 }
 
 /// Builds the model with distribution `name`.
-fn build_named(p: &Params, name: &str) -> Result<Box<dyn Brdf>, ParamError> {
+fn make_named(p: &dyn ParamSource, name: &str) -> Result<combine::DiffuseGlossy<MicrofacetBrdf>, ParamError> {
     let (ax, ay) = roughness::from_params(p)?;
     let distribution = Distribution::named(name, ax, ay).expect("distribution choice list matches Distribution::named");
     let shadowing = match p.choice("shadowing") {
@@ -161,20 +164,21 @@ fn build_named(p: &Params, name: &str) -> Result<Box<dyn Brdf>, ParamError> {
         _ => Shadowing::Correlated,
     };
     let fresnel = fresnel::from_params(p)?;
-    let glossy = MicrofacetBrdf { distribution, shadowing, fresnel };
-    Ok(combine::with_diffuse(p, Box::new(glossy), fresnel.max_reflectance()))
+    let tint = p.rgb("reflectance");
+    let glossy = MicrofacetBrdf { distribution, shadowing, fresnel, tint };
+    Ok(combine::with_diffuse(p, glossy, fresnel.max_reflectance() * tint.max_channel()))
 }
 
-fn build(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
-    build_named(p, p.choice("distribution"))
+fn make(p: &dyn ParamSource) -> Result<combine::DiffuseGlossy<MicrofacetBrdf>, ParamError> {
+    make_named(p, p.choice("distribution"))
 }
 
-fn build_ggx(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
-    build_named(p, "ggx")
+fn make_ggx(p: &dyn ParamSource) -> Result<combine::DiffuseGlossy<MicrofacetBrdf>, ParamError> {
+    make_named(p, "ggx")
 }
 
-fn build_beckmann(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
-    build_named(p, "beckmann")
+fn make_beckmann(p: &dyn ParamSource) -> Result<combine::DiffuseGlossy<MicrofacetBrdf>, ParamError> {
+    make_named(p, "beckmann")
 }
 
 const REFERENCE: &str = "Walter et al. 2007, Microfacet Models for Refraction through Rough Surfaces; Heitz 2014, 2018";
@@ -185,7 +189,7 @@ pub const SPEC: ModelSpec = ModelSpec {
     summary: "microfacet reflection D·G·F/(4 cos θi cos θo), Beckmann or GGX, Smith G, any Fresnel",
     reference: REFERENCE,
     params,
-    build,
+    build: by_value!(make),
     showcase: &[
         &[("distribution", "beckmann"), ("alpha", "0.05")],
         &[("alpha_u", "0.05"), ("alpha_v", "0.4")],
@@ -200,7 +204,7 @@ pub const GGX_SPEC: ModelSpec = ModelSpec {
     summary: "GGX (Trowbridge-Reitz) microfacet reflection; microfacet with distribution=ggx",
     reference: REFERENCE,
     params: preset_params,
-    build: build_ggx,
+    build: by_value!(make_ggx),
     showcase: &[&[("alpha", "0.5"), ("material", "Cu")], &[("alpha_u", "0.6"), ("alpha_v", "0.1")]],
 };
 
@@ -210,7 +214,7 @@ pub const BECKMANN_SPEC: ModelSpec = ModelSpec {
     summary: "Beckmann microfacet reflection; microfacet with distribution=beckmann",
     reference: REFERENCE,
     params: preset_params,
-    build: build_beckmann,
+    build: by_value!(make_beckmann),
     showcase: &[&[("alpha", "0.5"), ("material", "Ag")], &[("alpha_u", "0.1"), ("alpha_v", "0.6")]],
 };
 
@@ -254,7 +258,7 @@ pub(crate) mod tests {
     }
 
     fn model(d: Distribution, s: Shadowing, f: Fresnel) -> MicrofacetBrdf {
-        MicrofacetBrdf { distribution: d, shadowing: s, fresnel: f }
+        MicrofacetBrdf { distribution: d, shadowing: s, fresnel: f, tint: Rgb::ONE }
     }
 
     #[test]
@@ -308,7 +312,8 @@ pub(crate) mod tests {
 
     #[test]
     fn reciprocal_and_finite_everywhere() {
-        let gold = fresnel::from_params(&Params::resolve("m", &fresnel::params("conductor"), &[]).unwrap()).unwrap();
+        let gold =
+            fresnel::from_params(&crate::Params::resolve("m", &fresnel::params("conductor"), &[]).unwrap()).unwrap();
         let mut rng = rand_pcg::Pcg64::seed_from_u64(3);
         for d in [
             Distribution::Ggx(Ggx::new(0.001, 0.001)),

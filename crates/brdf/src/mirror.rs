@@ -11,8 +11,8 @@
 
 use crate::fresnel::{self, Fresnel};
 use crate::model::{reflect_z, Brdf, BrdfSample, Claims};
-use crate::params::{ParamError, ParamSpec, Params};
-use crate::registry::ModelSpec;
+use crate::params::{ParamError, ParamSource, ParamSpec};
+use crate::registry::{by_value, ModelSpec};
 use radiometry::{Rgb, Vec2, Vec3};
 
 /// A perfect mirror.
@@ -60,8 +60,8 @@ fn params() -> Vec<ParamSpec> {
     v
 }
 
-fn build(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
-    Ok(Box::new(Mirror { reflectance: p.rgb("reflectance"), fresnel: fresnel::from_params(p)? }))
+fn make(p: &dyn ParamSource) -> Result<Mirror, ParamError> {
+    Ok(Mirror { reflectance: p.rgb("reflectance"), fresnel: fresnel::from_params(p)? })
 }
 
 /// Registry entry.
@@ -70,7 +70,7 @@ pub const SPEC: ModelSpec = ModelSpec {
     summary: "ideal specular reflection (a delta lobe), reflectance × optional Fresnel term",
     reference: "the law of reflection; Born & Wolf, Principles of Optics, §1.5 for the Fresnel terms",
     params,
-    build,
+    build: by_value!(make),
     showcase: &[&[("material", "Au"), ("fresnel", "conductor")], &[("fresnel", "dielectric"), ("eta", "1.5")]],
 };
 

@@ -98,35 +98,80 @@ pub trait Brdf: Send + Sync + std::fmt::Debug {
     fn eta(&self) -> f32 {
         1.0
     }
+
+    /// The lecture's Phong coefficients, for models that are written in them (the `phong`
+    /// integrator uses ρ·cos θ for the others).
+    fn phong_terms(&self) -> Option<PhongTerms> {
+        None
+    }
 }
 
-impl<T: Brdf + ?Sized> Brdf for Box<T> {
-    fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
-        (**self).eval(wi, wo)
-    }
-    fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
-        (**self).pdf(wi, wo)
-    }
-    fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
-        (**self).eval_pdf(wi, wo)
-    }
-    fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample> {
-        (**self).sample(wo, uc, u)
-    }
-    fn claims(&self) -> Claims {
-        (**self).claims()
-    }
-    fn has_delta(&self) -> bool {
-        (**self).has_delta()
-    }
-    fn transmits(&self) -> bool {
-        (**self).transmits()
-    }
-    fn back_side(&self) -> bool {
-        (**self).back_side()
-    }
-    fn eta(&self) -> f32 {
-        (**self).eta()
+/// Forwards every method to the pointee: a model behind a `Box`, an `Arc` or a reference is
+/// the same model.
+macro_rules! forward_brdf {
+    ($($ptr:ty),*) => {$(
+        impl<T: Brdf + ?Sized> Brdf for $ptr {
+            #[inline]
+            fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
+                (**self).eval(wi, wo)
+            }
+            #[inline]
+            fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+                (**self).pdf(wi, wo)
+            }
+            #[inline]
+            fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
+                (**self).eval_pdf(wi, wo)
+            }
+            #[inline]
+            fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample> {
+                (**self).sample(wo, uc, u)
+            }
+            fn claims(&self) -> Claims {
+                (**self).claims()
+            }
+            fn has_delta(&self) -> bool {
+                (**self).has_delta()
+            }
+            fn transmits(&self) -> bool {
+                (**self).transmits()
+            }
+            fn back_side(&self) -> bool {
+                (**self).back_side()
+            }
+            fn eta(&self) -> f32 {
+                (**self).eta()
+            }
+            fn phong_terms(&self) -> Option<PhongTerms> {
+                (**self).phong_terms()
+            }
+        }
+    )*};
+}
+
+forward_brdf!(Box<T>, std::sync::Arc<T>, &T);
+
+/// The lecture's Phong illumination coefficients, L = k_a L_a + Σ L_l [k_d (I·N) + k_s (R·V)^k_e],
+/// of a model that has them (Lambert, Phong, Blinn-Phong and those with a diffuse lobe).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PhongTerms {
+    /// Ambient reflectance k_a (unitless): the diffuse albedo, exact for an unshadowed Lambert
+    /// surface under constant light.
+    pub ka: Rgb,
+    /// Diffuse coefficient k_d, 1/sr (albedo/π).
+    pub kd: Rgb,
+    /// Specular coefficient k_s, 1/sr.
+    pub ks: Rgb,
+    /// Specular exponent k_e.
+    pub ke: f32,
+    /// Blinn's half-vector form, (N·H)^k_e, instead of (R·V)^k_e.
+    pub half_vector: bool,
+}
+
+impl PhongTerms {
+    /// The terms of a Lambert surface of albedo `a`: k_a = a, k_d = a/π, no specular.
+    pub fn diffuse(a: Rgb) -> Self {
+        PhongTerms { ka: a, kd: a * std::f32::consts::FRAC_1_PI, ks: Rgb::ZERO, ke: 1.0, half_vector: false }
     }
 }
 

@@ -1,8 +1,12 @@
-//! Model parameters described once as data: names, kinds, ranges, defaults, docs.
-//! The CLI, the scene loader and the web page are generated from these descriptions.
+//! Model parameters described once as data: names, kinds, ranges, defaults, docs, and
+//! whether a scene may vary them over a surface (a texture). The CLI, the scene loader and
+//! the web page are generated from these descriptions.
+//!
+//! A model is built from a [`ParamSource`]: the resolved [`Params`] of a constant material, or
+//! [`Varied`], the same `Params` with some values replaced by a texture's at one surface point.
 
 use radiometry::Rgb;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
 
 /// What values a parameter takes.
@@ -18,6 +22,8 @@ pub enum ParamKind {
     Bool,
     /// A file path; the empty default means "none given" (the model says whether it needs one).
     Path,
+    /// A nested model, written `NAME[:PARAM=VALUE]...` (wrappers such as `mask` hold one).
+    Model,
 }
 
 /// A parameter value.
@@ -33,6 +39,8 @@ pub enum Value {
     Bool(bool),
     /// A file path, as written.
     Path(String),
+    /// A nested model, as written: `NAME[:PARAM=VALUE]...`.
+    Model(String),
 }
 
 impl fmt::Display for Value {
@@ -43,7 +51,7 @@ impl fmt::Display for Value {
             Value::Rgb([r, g, b]) => write!(f, "{r},{g},{b}"),
             Value::Choice(s) => f.write_str(s),
             Value::Bool(b) => write!(f, "{b}"),
-            Value::Path(p) => f.write_str(p),
+            Value::Path(p) | Value::Model(p) => f.write_str(p),
         }
     }
 }
@@ -59,80 +67,171 @@ pub struct ParamSpec {
     pub default: Value,
     /// One line saying what it is.
     pub doc: &'static str,
+    /// True when a scene may give it a texture: the model is then rebuilt at each surface
+    /// point from the texture's value there (real and RGB parameters, unless marked `fixed`).
+    pub varies: bool,
+    /// Names a real parameter also accepts for a value (Mitsuba's `bk7`, `water`, … for an IOR).
+    pub names: &'static [(&'static str, f64)],
 }
 
 impl ParamSpec {
     /// A real parameter in [min, max].
     pub fn float(name: &'static str, min: f64, max: f64, default: f64, doc: &'static str) -> Self {
-        ParamSpec { name, kind: ParamKind::Float { min, max }, default: Value::Float(default), doc }
+        ParamSpec {
+            name,
+            kind: ParamKind::Float { min, max },
+            default: Value::Float(default),
+            doc,
+            varies: true,
+            names: &[],
+        }
     }
 
     /// An RGB parameter with channels in [min, max].
     pub fn rgb(name: &'static str, min: f64, max: f64, default: f64, doc: &'static str) -> Self {
-        ParamSpec { name, kind: ParamKind::Rgb { min, max }, default: Value::Rgb([default; 3]), doc }
+        ParamSpec {
+            name,
+            kind: ParamKind::Rgb { min, max },
+            default: Value::Rgb([default; 3]),
+            doc,
+            varies: true,
+            names: &[],
+        }
     }
 
     /// A choice among `options`.
     pub fn choice(name: &'static str, options: &'static [&'static str], default: &str, doc: &'static str) -> Self {
-        ParamSpec { name, kind: ParamKind::Choice(options), default: Value::Choice(default.to_string()), doc }
+        ParamSpec {
+            name,
+            kind: ParamKind::Choice(options),
+            default: Value::Choice(default.to_string()),
+            doc,
+            varies: false,
+            names: &[],
+        }
     }
 
     /// A flag.
     pub fn boolean(name: &'static str, default: bool, doc: &'static str) -> Self {
-        ParamSpec { name, kind: ParamKind::Bool, default: Value::Bool(default), doc }
+        ParamSpec { name, kind: ParamKind::Bool, default: Value::Bool(default), doc, varies: false, names: &[] }
     }
 
     /// A file path, empty by default.
     pub fn path(name: &'static str, doc: &'static str) -> Self {
-        ParamSpec { name, kind: ParamKind::Path, default: Value::Path(String::new()), doc }
+        ParamSpec { name, kind: ParamKind::Path, default: Value::Path(String::new()), doc, varies: false, names: &[] }
+    }
+
+    /// A nested model, `default` as written (`NAME[:PARAM=VALUE]...`).
+    pub fn model(name: &'static str, default: &str, doc: &'static str) -> Self {
+        ParamSpec {
+            name,
+            kind: ParamKind::Model,
+            default: Value::Model(default.to_string()),
+            doc,
+            varies: false,
+            names: &[],
+        }
+    }
+
+    /// The same parameter, constant over a surface: the model precomputes from it (a table,
+    /// a normalisation), so a texture may not give it.
+    pub fn fixed(self) -> Self {
+        ParamSpec { varies: false, ..self }
+    }
+
+    /// The same parameter with named values, e.g. Mitsuba's indices of refraction.
+    pub fn with_names(self, names: &'static [(&'static str, f64)]) -> Self {
+        ParamSpec { names, ..self }
+    }
+
+    /// The same parameter with another default (a model that shares a description but not its default).
+    pub fn with_default(self, default: Value) -> Self {
+        ParamSpec { default, ..self }
     }
 
     /// The valid values, as a user reads them: "[0, 1]", "one of a|b", "true|false".
     pub fn range_text(&self) -> String {
         match &self.kind {
-            ParamKind::Float { min, max } => format!("[{min}, {max}]"),
+            ParamKind::Float { min, max } if self.names.is_empty() => format!("[{min}, {max}]"),
+            ParamKind::Float { min, max } => format!(
+                "a number in [{min}, {max}] or one of {}",
+                self.names.iter().map(|n| n.0).collect::<Vec<_>>().join("|")
+            ),
             ParamKind::Rgb { min, max } => format!("[{min}, {max}] (one value or r,g,b)"),
             ParamKind::Choice(opts) => format!("one of {}", opts.join("|")),
             ParamKind::Bool => "true|false".to_string(),
             ParamKind::Path => "a file path".to_string(),
+            ParamKind::Model => "a model, NAME[:PARAM=VALUE]...".to_string(),
         }
+    }
+
+    fn bad(&self, value: impl fmt::Display) -> ParamError {
+        ParamError::BadValue { name: self.name.to_string(), value: value.to_string(), expected: self.range_text() }
     }
 
     /// Parses and range-checks a value written as text.
     pub fn parse(&self, text: &str) -> Result<Value, ParamError> {
-        let bad = || ParamError::BadValue {
-            name: self.name.to_string(),
-            value: text.to_string(),
-            expected: self.range_text(),
-        };
-        let in_range = |v: f64, min: f64, max: f64| v.is_finite() && v >= min && v <= max;
-        match &self.kind {
-            ParamKind::Float { min, max } => {
-                let v: f64 = text.trim().parse().map_err(|_| bad())?;
-                in_range(v, *min, *max).then_some(Value::Float(v)).ok_or_else(bad)
+        let t = text.trim();
+        let v = match &self.kind {
+            ParamKind::Float { .. } => match self.names.iter().find(|(n, _)| n.eq_ignore_ascii_case(t)) {
+                Some((_, v)) => Value::Float(*v),
+                None => Value::Float(t.parse().map_err(|_| self.bad(text))?),
+            },
+            ParamKind::Rgb { .. } => {
+                let parts: Vec<f64> = t
+                    .split(',')
+                    .map(|s| s.trim().parse::<f64>())
+                    .collect::<Result<_, _>>()
+                    .map_err(|_| self.bad(text))?;
+                match parts.as_slice() {
+                    [v] => Value::Rgb([*v; 3]),
+                    [r, g, b] => Value::Rgb([*r, *g, *b]),
+                    _ => return Err(self.bad(text)),
+                }
             }
-            ParamKind::Rgb { min, max } => {
-                let parts: Vec<f64> =
-                    text.split(',').map(|s| s.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| bad())?;
-                let c = match parts.as_slice() {
-                    [v] => [*v; 3],
-                    [r, g, b] => [*r, *g, *b],
-                    _ => return Err(bad()),
-                };
-                c.iter().all(|&v| in_range(v, *min, *max)).then_some(Value::Rgb(c)).ok_or_else(bad)
-            }
-            ParamKind::Choice(opts) => opts
-                .iter()
-                .find(|o| o.eq_ignore_ascii_case(text.trim()))
-                .map(|o| Value::Choice(o.to_string()))
-                .ok_or_else(bad),
-            ParamKind::Bool => match text.trim() {
-                "true" | "1" | "yes" => Ok(Value::Bool(true)),
-                "false" | "0" | "no" => Ok(Value::Bool(false)),
-                _ => Err(bad()),
+            ParamKind::Choice(_) => Value::Choice(t.to_string()),
+            ParamKind::Bool => match t {
+                "true" | "1" | "yes" => Value::Bool(true),
+                "false" | "0" | "no" => Value::Bool(false),
+                _ => return Err(self.bad(text)),
             },
             // The file is read when the model is built, which names it in any error.
-            ParamKind::Path => Ok(Value::Path(text.trim().to_string())),
+            ParamKind::Path => Value::Path(t.to_string()),
+            ParamKind::Model => Value::Model(t.to_string()),
+        };
+        self.check(v)
+    }
+
+    /// Range-checks a typed value: a number for an RGB parameter is the grey of that value;
+    /// a choice is matched without regard to case.
+    pub fn check(&self, value: Value) -> Result<Value, ParamError> {
+        let in_range = |v: f64, min: f64, max: f64| v.is_finite() && v >= min && v <= max;
+        match (&self.kind, value) {
+            (ParamKind::Float { min, max }, Value::Float(v)) if in_range(v, *min, *max) => Ok(Value::Float(v)),
+            (ParamKind::Rgb { min, max }, Value::Float(v)) if in_range(v, *min, *max) => Ok(Value::Rgb([v; 3])),
+            (ParamKind::Rgb { min, max }, Value::Rgb(c)) if c.iter().all(|&v| in_range(v, *min, *max)) => {
+                Ok(Value::Rgb(c))
+            }
+            (ParamKind::Choice(opts), Value::Choice(s)) => opts
+                .iter()
+                .find(|o| o.eq_ignore_ascii_case(s.trim()))
+                .map(|o| Value::Choice(o.to_string()))
+                .ok_or_else(|| self.bad(s)),
+            (ParamKind::Bool, v @ Value::Bool(_))
+            | (ParamKind::Path, v @ Value::Path(_))
+            | (ParamKind::Model, v @ Value::Model(_)) => Ok(v),
+            (_, v) => Err(self.bad(v)),
+        }
+    }
+
+    /// `value` moved into this parameter's range (a texture's value at a surface point; a
+    /// non-finite value becomes the default).
+    pub fn clamp(&self, value: [f32; 3]) -> Value {
+        let c = |v: f32, min: f64, max: f64| if v.is_finite() { (v as f64).clamp(min, max) } else { min };
+        match &self.kind {
+            ParamKind::Float { min, max } => Value::Float(c(value[0], *min, *max)),
+            ParamKind::Rgb { min, max } => Value::Rgb(value.map(|v| c(v, *min, *max))),
+            _ => self.default.clone(),
         }
     }
 }
@@ -154,29 +253,96 @@ pub enum ParamError {
     Inconsistent(String),
 }
 
+/// Where a model's build reads its parameters: every parameter has a value (given or
+/// defaulted, range-checked). Asking for an undeclared name is a programming error and panics.
+pub trait ParamSource {
+    /// The value of parameter `name`.
+    fn value(&self, name: &str) -> &Value;
+
+    /// True when `name` was given rather than defaulted.
+    fn was_given(&self, name: &str) -> bool;
+
+    /// A real parameter.
+    fn float(&self, name: &str) -> f32 {
+        match self.value(name) {
+            Value::Float(v) => *v as f32,
+            other => panic!("parameter '{name}' is {other:?}, not a float"),
+        }
+    }
+
+    /// An RGB parameter.
+    fn rgb(&self, name: &str) -> Rgb {
+        match self.value(name) {
+            Value::Rgb([r, g, b]) => Rgb::new(*r as f32, *g as f32, *b as f32),
+            other => panic!("parameter '{name}' is {other:?}, not RGB"),
+        }
+    }
+
+    /// A choice parameter.
+    fn choice(&self, name: &str) -> &str {
+        match self.value(name) {
+            Value::Choice(s) => s,
+            other => panic!("parameter '{name}' is {other:?}, not a choice"),
+        }
+    }
+
+    /// A file path ("" when none was given).
+    fn path(&self, name: &str) -> &str {
+        match self.value(name) {
+            Value::Path(p) => p,
+            other => panic!("parameter '{name}' is {other:?}, not a path"),
+        }
+    }
+
+    /// A flag.
+    fn flag(&self, name: &str) -> bool {
+        match self.value(name) {
+            Value::Bool(b) => *b,
+            other => panic!("parameter '{name}' is {other:?}, not a flag"),
+        }
+    }
+
+    /// A nested model, as written.
+    fn model(&self, name: &str) -> &str {
+        match self.value(name) {
+            Value::Model(m) => m,
+            other => panic!("parameter '{name}' is {other:?}, not a model"),
+        }
+    }
+}
+
 /// Resolved parameter values: every parameter of a model, given or defaulted, range-checked.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Params {
     values: BTreeMap<&'static str, Value>,
+    given: BTreeSet<&'static str>,
 }
 
 impl Params {
     /// Resolves `(name, text)` pairs against `specs`, filling in defaults.
     pub fn resolve(model: &str, specs: &[ParamSpec], given: &[(&str, &str)]) -> Result<Params, ParamError> {
-        let mut values: BTreeMap<&'static str, Value> = specs.iter().map(|s| (s.name, s.default.clone())).collect();
-        for (name, text) in given {
-            let spec = specs.iter().find(|s| s.name == *name).ok_or_else(|| ParamError::UnknownParam {
-                model: model.to_string(),
-                name: name.to_string(),
-                valid: if specs.is_empty() {
-                    "(none)".to_string()
-                } else {
-                    specs.iter().map(|s| s.name).collect::<Vec<_>>().join(", ")
-                },
-            })?;
-            values.insert(spec.name, spec.parse(text)?);
+        Self::resolve_with(model, specs, given.iter().map(|(n, t)| (*n, *t)), |s, t: &str| s.parse(t))
+    }
+
+    /// Resolves typed `(name, value)` pairs against `specs`, filling in defaults.
+    pub fn from_values(model: &str, specs: &[ParamSpec], given: &[(&str, Value)]) -> Result<Params, ParamError> {
+        Self::resolve_with(model, specs, given.iter().map(|(n, v)| (*n, v)), |s, v: &Value| s.check(v.clone()))
+    }
+
+    fn resolve_with<'g, T: 'g>(
+        model: &str,
+        specs: &[ParamSpec],
+        given: impl Iterator<Item = (&'g str, T)>,
+        read: impl Fn(&ParamSpec, T) -> Result<Value, ParamError>,
+    ) -> Result<Params, ParamError> {
+        let mut p =
+            Params { values: specs.iter().map(|s| (s.name, s.default.clone())).collect(), given: BTreeSet::new() };
+        for (name, v) in given {
+            let spec = find_spec(model, specs, name)?;
+            p.values.insert(spec.name, read(spec, v)?);
+            p.given.insert(spec.name);
         }
-        Ok(Params { values })
+        Ok(p)
     }
 
     /// The resolved values in name order.
@@ -184,48 +350,57 @@ impl Params {
         self.values.iter().map(|(k, v)| (*k, v))
     }
 
-    fn get(&self, name: &str) -> &Value {
+    /// The (name, value) pairs that were given, in name order.
+    pub fn given(&self) -> impl Iterator<Item = (&'static str, &Value)> {
+        self.iter().filter(|(k, _)| self.given.contains(k))
+    }
+}
+
+/// The description of `name` among `specs`, or an error listing them.
+pub fn find_spec<'s>(model: &str, specs: &'s [ParamSpec], name: &str) -> Result<&'s ParamSpec, ParamError> {
+    specs.iter().find(|s| s.name == name).ok_or_else(|| ParamError::UnknownParam {
+        model: model.to_string(),
+        name: name.to_string(),
+        valid: if specs.is_empty() {
+            "(none)".to_string()
+        } else {
+            specs.iter().map(|s| s.name).collect::<Vec<_>>().join(", ")
+        },
+    })
+}
+
+impl ParamSource for Params {
+    fn value(&self, name: &str) -> &Value {
         self.values.get(name).unwrap_or_else(|| panic!("model asked for undeclared parameter '{name}'"))
     }
 
-    /// A real parameter (panics only on a programming error: a name the model did not declare).
-    pub fn float(&self, name: &str) -> f32 {
-        match self.get(name) {
-            Value::Float(v) => *v as f32,
-            other => panic!("parameter '{name}' is {other:?}, not a float"),
-        }
+    fn was_given(&self, name: &str) -> bool {
+        self.given.contains(name)
+    }
+}
+
+/// `Params` with some values replaced: a textured material's parameters at one surface point.
+/// Borrowed, so that a renderer builds it on the stack at every hit.
+#[derive(Clone, Copy, Debug)]
+pub struct Varied<'a> {
+    base: &'a Params,
+    values: &'a [(&'static str, Value)],
+}
+
+impl<'a> Varied<'a> {
+    /// `base` with `values` (already in range: see [`ParamSpec::clamp`]) in place of its own.
+    pub fn new(base: &'a Params, values: &'a [(&'static str, Value)]) -> Self {
+        Varied { base, values }
+    }
+}
+
+impl ParamSource for Varied<'_> {
+    fn value(&self, name: &str) -> &Value {
+        self.values.iter().find(|(n, _)| *n == name).map_or_else(|| self.base.value(name), |(_, v)| v)
     }
 
-    /// An RGB parameter.
-    pub fn rgb(&self, name: &str) -> Rgb {
-        match self.get(name) {
-            Value::Rgb([r, g, b]) => Rgb::new(*r as f32, *g as f32, *b as f32),
-            other => panic!("parameter '{name}' is {other:?}, not RGB"),
-        }
-    }
-
-    /// A choice parameter.
-    pub fn choice(&self, name: &str) -> &str {
-        match self.get(name) {
-            Value::Choice(s) => s,
-            other => panic!("parameter '{name}' is {other:?}, not a choice"),
-        }
-    }
-
-    /// A file path ("" when none was given).
-    pub fn path(&self, name: &str) -> &str {
-        match self.get(name) {
-            Value::Path(p) => p,
-            other => panic!("parameter '{name}' is {other:?}, not a path"),
-        }
-    }
-
-    /// A flag.
-    pub fn flag(&self, name: &str) -> bool {
-        match self.get(name) {
-            Value::Bool(b) => *b,
-            other => panic!("parameter '{name}' is {other:?}, not a flag"),
-        }
+    fn was_given(&self, name: &str) -> bool {
+        self.base.was_given(name) || self.values.iter().any(|(n, _)| *n == name)
     }
 }
 
@@ -262,5 +437,27 @@ mod tests {
         let e = Params::resolve("m", &specs(), &[("fresnel", "exact")]).unwrap_err().to_string();
         assert!(e.contains("none|schlick"), "{e}");
         assert!(Params::resolve("m", &specs(), &[("ke", "nan")]).is_err());
+    }
+
+    #[test]
+    fn typed_values_named_values_and_varied_overlays() {
+        const IORS: &[(&str, f64)] = &[("water", 1.333)];
+        let mut s = specs();
+        s.push(ParamSpec::float("ior", 1.0, 3.0, 1.5, "index").with_names(IORS).fixed());
+        let p = Params::from_values("m", &s, &[("ks", Value::Float(0.25)), ("ke", Value::Float(5.0))]).unwrap();
+        assert_eq!(p.rgb("ks"), Rgb::splat(0.25));
+        assert!(p.was_given("ke") && !p.was_given("ior"));
+        assert!(Params::from_values("m", &s, &[("ke", Value::Rgb([1.0; 3]))]).is_err(), "RGB for a float");
+        assert!(Params::from_values("m", &s, &[("ke", Value::Float(-1.0))]).is_err());
+        assert_eq!(Params::resolve("m", &s, &[("ior", "Water")]).unwrap().float("ior"), 1.333);
+        let e = Params::resolve("m", &s, &[("ior", "milk")]).unwrap_err().to_string();
+        assert!(e.contains("water"), "{e}");
+        assert!(s[0].varies && s[1].varies && !s[2].varies && !s[4].varies);
+        // A texture's value, clamped into range, replaces the base value at one point only.
+        let v = [("ks", s[1].clamp([0.5, 2.0, f32::NAN]))];
+        let here = Varied::new(&p, &v);
+        assert_eq!(here.rgb("ks"), Rgb::new(0.5, 1.0, 0.0));
+        assert_eq!(here.float("ke"), 5.0);
+        assert!(here.was_given("ks"));
     }
 }

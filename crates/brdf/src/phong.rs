@@ -24,8 +24,8 @@
 //! based rendering", Report CW 197, KU Leuven, 1994.
 
 use crate::combine;
-use crate::model::{reflect_z, same_upper_hemisphere, Brdf, BrdfSample, Claims};
-use crate::params::{ParamError, ParamSpec, Params};
+use crate::model::{reflect_z, same_upper_hemisphere, Brdf, BrdfSample, Claims, PhongTerms};
+use crate::params::{ParamError, ParamSource, ParamSpec};
 use crate::registry::ModelSpec;
 use radiometry::{Frame, Rgb, Vec2, Vec3};
 use std::f32::consts::TAU;
@@ -146,6 +146,10 @@ impl Brdf for Phong {
             }
         }
     }
+
+    fn phong_terms(&self) -> Option<PhongTerms> {
+        Some(PhongTerms { ka: Rgb::ZERO, kd: Rgb::ZERO, ks: self.ks, ke: self.ke, half_vector: false })
+    }
 }
 
 /// The parameters of a cosine-power lobe: `ks` (up to 10 in the lecture's raw form, whose
@@ -167,17 +171,17 @@ fn modified_params() -> Vec<ParamSpec> {
     lobe_params(false, "Phong exponent k_e: larger is shinier")
 }
 
-fn build_form(p: &Params, form: PhongForm) -> Result<Box<dyn Brdf>, ParamError> {
+fn make(p: &dyn ParamSource, form: PhongForm) -> Result<combine::DiffuseGlossy<Phong>, ParamError> {
     let lobe = Phong { ks: p.rgb("ks"), ke: p.float("ke"), form };
-    Ok(combine::with_diffuse(p, Box::new(lobe), lobe.max_albedo()))
+    Ok(combine::with_diffuse(p, lobe, lobe.max_albedo()))
 }
 
-fn build_raw(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
-    build_form(p, PhongForm::Raw)
+fn make_raw(p: &dyn ParamSource) -> Result<combine::DiffuseGlossy<Phong>, ParamError> {
+    make(p, PhongForm::Raw)
 }
 
-fn build_modified(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
-    build_form(p, PhongForm::Modified)
+fn make_modified(p: &dyn ParamSource) -> Result<combine::DiffuseGlossy<Phong>, ParamError> {
+    make(p, PhongForm::Modified)
 }
 
 /// Registry entry: the lecture's raw Phong.
@@ -187,7 +191,7 @@ pub const SPEC: ModelSpec = ModelSpec {
         "the lecture's Phong specular term as a BRDF, k_s (R·V)^k_e / cos θi: not reciprocal, not energy conserving",
     reference: "Phong 1975, Illumination for Computer Generated Pictures",
     params: raw_params,
-    build: build_raw,
+    build: crate::registry::by_value!(make_raw),
     // Broad lobes, where the albedo at normal incidence 2π k_s/(k_e + 1) is π, and π/2 + 0.3
     // with a diffuse lobe: both far over 1, and the 1/cos θi asymmetry is of order one.
     showcase: &[&[("ks", "1"), ("ke", "1")], &[("ks", "0.5"), ("ke", "1"), ("diffuse", "0.3")]],
@@ -199,7 +203,7 @@ pub const MODIFIED_SPEC: ModelSpec = ModelSpec {
     summary: "normalised Phong lobe k_s (k_e+2)/(2π) cos^k_e α: reciprocal, energy conserving for k_s ≤ 1",
     reference: "Lafortune & Willems 1994, Using the modified Phong reflectance model for physically based rendering",
     params: modified_params,
-    build: build_modified,
+    build: crate::registry::by_value!(make_modified),
     // k_s = 1 and a broad lobe put the albedo at exactly 1 at normal incidence: the sharpest
     // test of the energy claim; then a sharp lobe under a diffuse one filling the budget.
     showcase: &[&[("ks", "1"), ("ke", "1")], &[("ks", "0.4"), ("ke", "2000"), ("diffuse", "0.6")]],

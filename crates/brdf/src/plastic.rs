@@ -37,8 +37,8 @@
 use crate::fresnel;
 use crate::microfacet::{Distribution, Ndf};
 use crate::model::{reflect, reflect_z, same_upper_hemisphere, sample_from_pdf, Brdf, BrdfSample, Claims};
-use crate::params::{ParamError, ParamSpec, Params};
-use crate::registry::ModelSpec;
+use crate::params::{ParamError, ParamSource, ParamSpec};
+use crate::registry::{by_value, ModelSpec};
 use crate::roughness::ALPHA_MIN;
 use radiometry::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
 use radiometry::{Rgb, Vec2, Vec3};
@@ -46,33 +46,6 @@ use std::f32::consts::FRAC_1_PI;
 
 /// Number of tabulated cosines of the rough coat's transmittance (Mitsuba's resolution).
 pub const TABLE_SIZE: usize = 64;
-
-/// Gauss–Legendre nodes and weights on [0, 1] (Newton's iteration on P_n from the Chebyshev guess).
-fn gauss_legendre01(n: usize) -> Vec<(f64, f64)> {
-    let mut out = Vec::with_capacity(n);
-    for i in 0..n {
-        let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-        let mut dp = 1.0;
-        for _ in 0..100 {
-            // P_n(x) and P_n'(x) by the three-term recurrence.
-            let (mut p0, mut p1) = (1.0, x);
-            for k in 2..=n {
-                let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
-            let dx = p1 / dp;
-            x -= dx;
-            if dx.abs() < 1e-15 {
-                break;
-            }
-        }
-        let w = 2.0 / ((1.0 - x * x) * dp * dp);
-        out.push((0.5 * (x + 1.0), 0.5 * w));
-    }
-    out
-}
 
 /// Smith masking G1(w) of the distribution, in Mitsuba's form: the exact term for GGX and
 /// Walter et al.'s rational approximation (< 0.35 % off) for Beckmann; zero when w sees the back
@@ -98,11 +71,41 @@ fn smith_g1(beckmann: bool, alpha: f32, w: Vec3, m: Vec3) -> f32 {
     }
 }
 
+/// The coat tables of (distribution, α, η), computed once per process: a textured material
+/// builds its model at every hit, and the tables depend only on parameters that cannot vary.
+/// Each thread keeps the tables it used last, so a hit takes no lock.
+fn cached_coat_tables(dist: &Distribution, beckmann: bool, alpha: f32, eta: f32) -> ([f32; TABLE_SIZE], f32) {
+    type Tables = ([f32; TABLE_SIZE], f32);
+    type Key = (bool, u32, u32);
+    /// More distinct coats than this are computed without being kept.
+    const KEPT: usize = 256;
+    static ALL: std::sync::RwLock<Vec<(Key, Tables)>> = std::sync::RwLock::new(Vec::new());
+    thread_local!(static LAST: std::cell::Cell<Option<(Key, Tables)>> = const { std::cell::Cell::new(None) });
+    let key = (beckmann, alpha.to_bits(), eta.to_bits());
+    if let Some((k, t)) = LAST.get() {
+        if k == key {
+            return t;
+        }
+    }
+    let found = ALL.read().ok().and_then(|all| all.iter().find(|(k, _)| *k == key).map(|e| e.1));
+    let tables = found.unwrap_or_else(|| {
+        let t = coat_tables(dist, beckmann, alpha, eta);
+        if let Ok(mut all) = ALL.write() {
+            if all.len() < KEPT && !all.iter().any(|(k, _)| *k == key) {
+                all.push((key, t));
+            }
+        }
+        t
+    });
+    LAST.set(Some((key, tables)));
+    tables
+}
+
 /// The rough coat's tables: t(μ_k) and F_int, integrated over visible normals.
 fn coat_tables(dist: &Distribution, beckmann: bool, alpha: f32, eta: f32) -> ([f32; TABLE_SIZE], f32) {
     // The transmittance integrand is smooth; the internal reflectance jumps at the critical
     // angle, so it gets a finer rule.
-    let (coarse, fine) = (gauss_legendre01(32), gauss_legendre01(64));
+    let (coarse, fine) = (radiometry::integrate::gauss_legendre01(32), radiometry::integrate::gauss_legendre01(64));
     let mut t = [0.0f32; TABLE_SIZE];
     let mut r_mean = 0.0f64;
     for (k, tk) in t.iter_mut().enumerate() {
@@ -234,7 +237,7 @@ impl RoughPlastic {
         let beckmann = distribution == "beckmann";
         // Mitsuba's own floor on α.
         let alpha = alpha.max(1e-4);
-        let (transmittance, internal_reflectance) = coat_tables(&dist, beckmann, alpha, eta);
+        let (transmittance, internal_reflectance) = cached_coat_tables(&dist, beckmann, alpha, eta);
         let base = base_factor(diffuse, internal_reflectance, nonlinear, eta);
         // 2∫t(μ)μ dμ of the interpolated table: exact Simpson on each linear piece (t μ is quadratic).
         let n = (TABLE_SIZE - 1) as f64;
@@ -443,8 +446,8 @@ fn common_params() -> Vec<ParamSpec> {
     vec![
         ParamSpec::rgb("diffuse_reflectance", 0.0, 1.0, 0.5, "reflectance ρ_d of the diffuse base under the coat"),
         ParamSpec::rgb("specular_reflectance", 0.0, 1.0, 1.0, "tint k_s of the coat's reflection (1 is physical)"),
-        ParamSpec::float("int_ior", 1.0, 10.0, 1.49, "index of refraction of the coat (polypropylene 1.49)"),
-        ParamSpec::float("ext_ior", 1.0, 10.0, 1.000277, "index of refraction outside (air 1.000277)"),
+        crate::ior::param("int_ior", 1.49, "index of refraction of the coat (polypropylene 1.49)"),
+        crate::ior::param("ext_ior", 1.000277, "index of refraction outside (air 1.000277)"),
         ParamSpec::boolean(
             "nonlinear",
             false,
@@ -456,13 +459,13 @@ fn common_params() -> Vec<ParamSpec> {
 fn rough_params() -> Vec<ParamSpec> {
     let mut v = vec![
         ParamSpec::choice("distribution", &["beckmann", "ggx"], "beckmann", "distribution of facet normals D"),
-        ParamSpec::float("alpha", ALPHA_MIN, 1.0, 0.1, "roughness α of the coat"),
+        ParamSpec::float("alpha", ALPHA_MIN, 1.0, 0.1, "roughness α of the coat").fixed(),
     ];
     v.extend(common_params());
     v
 }
 
-fn eta_of(p: &Params) -> Result<f32, ParamError> {
+fn eta_of(p: &dyn ParamSource) -> Result<f32, ParamError> {
     let (int, ext) = (p.float("int_ior"), p.float("ext_ior"));
     if int == ext {
         return Err(ParamError::Inconsistent(format!(
@@ -472,7 +475,7 @@ fn eta_of(p: &Params) -> Result<f32, ParamError> {
     Ok(int / ext)
 }
 
-fn build_rough(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
+fn make_rough(p: &dyn ParamSource) -> Result<RoughPlastic, ParamError> {
     let m = RoughPlastic::new(
         p.choice("distribution"),
         p.float("alpha"),
@@ -482,16 +485,11 @@ fn build_rough(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
         p.flag("nonlinear"),
     )
     .expect("distribution choice list matches Distribution::named");
-    Ok(Box::new(m))
+    Ok(m)
 }
 
-fn build_smooth(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
-    Ok(Box::new(Plastic::new(
-        eta_of(p)?,
-        p.rgb("diffuse_reflectance"),
-        p.rgb("specular_reflectance"),
-        p.flag("nonlinear"),
-    )))
+fn make_smooth(p: &dyn ParamSource) -> Result<Plastic, ParamError> {
+    Ok(Plastic::new(eta_of(p)?, p.rgb("diffuse_reflectance"), p.rgb("specular_reflectance"), p.flag("nonlinear")))
 }
 
 /// Registry entry for `roughplastic`.
@@ -500,7 +498,7 @@ pub const ROUGH_SPEC: ModelSpec = ModelSpec {
     summary: "Mitsuba 3's rough plastic: a rough dielectric coat (Beckmann/GGX) over a diffuse base",
     reference: "Mitsuba 3 roughplastic; Walter et al. 2007; Kelemen & Szirmay-Kalos 2001",
     params: rough_params,
-    build: build_rough,
+    build: by_value!(make_rough),
     showcase: &[
         &[
             ("distribution", "ggx"),
@@ -519,7 +517,7 @@ pub const SMOOTH_SPEC: ModelSpec = ModelSpec {
     summary: "Mitsuba 3's smooth plastic: a mirror-like dielectric coat (delta lobe) over a diffuse base",
     reference: "Mitsuba 3 plastic; Egan & Hilgeman 1979 and d'Eon & Irving 2011 for F_dr",
     params: common_params,
-    build: build_smooth,
+    build: by_value!(make_smooth),
     showcase: &[&[("int_ior", "1.5"), ("ext_ior", "1"), ("diffuse_reflectance", "0.9,0.5,0.1")]],
 };
 
@@ -688,15 +686,6 @@ mod tests {
             * 2.0
             / TABLE_SIZE as f32;
         assert!((m.internal_reflectance() - mean).abs() < 2e-3, "{} vs {mean}", m.internal_reflectance());
-    }
-
-    #[test]
-    fn gauss_legendre_integrates_polynomials_exactly() {
-        // n nodes integrate degree 2n − 1 exactly: ∫₀¹ x^9 dx = 1/10 with 5 nodes.
-        let q = gauss_legendre01(5);
-        let s: f64 = q.iter().map(|&(x, w)| w * x.powi(9)).sum();
-        assert!((s - 0.1).abs() < 1e-14, "{s}");
-        assert!((q.iter().map(|q| q.1).sum::<f64>() - 1.0).abs() < 1e-14);
     }
 
     #[test]

@@ -1,8 +1,33 @@
 //! Every model by name, with its parameters as data: the one list the CLI, the scene
 //! loader and the web page are generated from.
 
-use crate::params::{ParamError, ParamSpec, Params};
+use crate::params::{ParamError, ParamSource, ParamSpec, Params};
 use crate::Brdf;
+
+/// How a model is built from its parameters.
+#[derive(Clone, Copy)]
+pub struct Build {
+    /// On the heap: a constant material, a model named on the command line.
+    pub owned: fn(&dyn ParamSource) -> Result<Box<dyn Brdf>, ParamError>,
+    /// On the stack, handed to `f`: a textured material at one surface point, which must not
+    /// allocate.
+    pub scoped: fn(&dyn ParamSource, &mut dyn FnMut(&dyn Brdf)) -> Result<(), ParamError>,
+}
+
+/// The [`Build`] of a model whose function `$make(&dyn ParamSource) -> Result<M, ParamError>`
+/// returns it by value.
+macro_rules! by_value {
+    ($make:path) => {
+        $crate::registry::Build {
+            owned: |p| Ok(Box::new($make(p)?)),
+            scoped: |p, f| {
+                f(&$make(p)?);
+                Ok(())
+            },
+        }
+    };
+}
+pub(crate) use by_value;
 
 /// A named model: its parameter descriptions and how to build it.
 #[derive(Clone, Copy)]
@@ -16,7 +41,7 @@ pub struct ModelSpec {
     /// Its parameters.
     pub params: fn() -> Vec<ParamSpec>,
     /// Builds it from resolved parameters.
-    pub build: fn(&Params) -> Result<Box<dyn Brdf>, ParamError>,
+    pub build: Build,
     /// Parameter sets worth checking besides the defaults (e.g. where the lecture shows a model
     /// failing a property); `gonio check --all` runs them too.
     pub showcase: &'static [&'static [(&'static str, &'static str)]],
@@ -32,7 +57,20 @@ impl ModelSpec {
     /// Resolves `(name, value)` pairs (defaults filled in, ranges checked) and builds the model.
     pub fn build_with(&self, given: &[(&str, &str)]) -> Result<Box<dyn Brdf>, ParamError> {
         let params = Params::resolve(self.name, &(self.params)(), given)?;
-        (self.build)(&params)
+        (self.build.owned)(&params)
+    }
+
+    /// Builds it from resolved (or varied) parameters.
+    pub fn build_from(&self, p: &dyn ParamSource) -> Result<Box<dyn Brdf>, ParamError> {
+        (self.build.owned)(p)
+    }
+
+    /// Builds it on the stack from `p` and returns what `f` makes of it.
+    pub fn with<R>(&self, p: &dyn ParamSource, f: impl FnOnce(&dyn Brdf) -> R) -> Result<R, ParamError> {
+        let mut f = Some(f);
+        let mut out = None;
+        (self.build.scoped)(p, &mut |b| out = f.take().map(|f| f(b)))?;
+        Ok(out.expect("a model's scoped build calls its continuation once"))
     }
 
     /// True when the model is data read from a file (a path parameter with no default, e.g.
@@ -63,6 +101,15 @@ pub fn models() -> &'static [ModelSpec] {
         crate::plastic::SMOOTH_SPEC,
         crate::dielectric::SPEC,
         crate::rough_dielectric::SPEC,
+        crate::thin_dielectric::SPEC,
+        crate::principled::SPEC,
+        crate::principled_thin::SPEC,
+        crate::two_sided::SPEC,
+        crate::mask::SPEC,
+        crate::blend::SPEC,
+        crate::perturbed::NORMALMAP_SPEC,
+        crate::perturbed::BUMPMAP_SPEC,
+        crate::null::SPEC,
         crate::measured::SPEC,
     ]
 }
@@ -78,6 +125,35 @@ pub fn find(name: &str) -> Result<&'static ModelSpec, ParamError> {
 /// Builds model `name` with `(parameter, value)` pairs given as text.
 pub fn build(name: &str, given: &[(&str, &str)]) -> Result<Box<dyn Brdf>, ParamError> {
     find(name)?.build_with(given)
+}
+
+/// Splits a model written `NAME[:PARAM=VALUE]...` (`ward:alpha=0.1:ks=0.3`) into its entry and
+/// its pairs; names are checked here, values when it is built.
+pub fn parse_item(item: &str) -> Result<(&'static ModelSpec, Vec<(String, String)>), ParamError> {
+    let mut parts = item.split(':');
+    let name = parts.next().unwrap_or_default().trim();
+    let bad = |what: String| {
+        ParamError::Inconsistent(format!("{what}; write MODEL[:PARAM=VALUE]..., e.g. ward:alpha=0.1:ks=0.3"))
+    };
+    if name.is_empty() {
+        return Err(bad(format!("empty model name in '{item}'")));
+    }
+    let spec = find(name)?;
+    let mut given = Vec::new();
+    for p in parts {
+        let Some((k, v)) = p.split_once('=') else {
+            return Err(bad(format!("'{p}' in '{item}' is not PARAM=VALUE")));
+        };
+        given.push((k.trim().to_string(), v.trim().to_string()));
+    }
+    Ok((spec, given))
+}
+
+/// Builds a model written `NAME[:PARAM=VALUE]...` (a wrapper's nested model).
+pub fn build_item(item: &str) -> Result<Box<dyn Brdf>, ParamError> {
+    let (spec, given) = parse_item(item)?;
+    let pairs: Vec<(&str, &str)> = given.iter().map(|(k, v)| (k.as_str(), v.as_str())).collect();
+    spec.build_with(&pairs)
 }
 
 #[cfg(test)]

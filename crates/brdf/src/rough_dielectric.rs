@@ -40,8 +40,8 @@ use crate::dielectric::{eta_from_params, eta_seen_from, interface_params};
 use crate::fresnel;
 use crate::microfacet::{Distribution, Ndf};
 use crate::model::{refract, Brdf, BrdfSample, Claims};
-use crate::params::{ParamError, ParamSpec, Params};
-use crate::registry::ModelSpec;
+use crate::params::{ParamError, ParamSource, ParamSpec};
+use crate::registry::{by_value, ModelSpec};
 use crate::roughness;
 use radiometry::{Rgb, Vec2, Vec3};
 
@@ -203,7 +203,7 @@ fn params() -> Vec<ParamSpec> {
     v
 }
 
-fn build(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
+fn make(p: &dyn ParamSource) -> Result<RoughDielectric, ParamError> {
     let (ax, ay) = roughness::from_params(p)?;
     let distribution = Distribution::named(p.choice("distribution"), ax, ay)
         .expect("distribution choice list matches Distribution::named");
@@ -217,12 +217,12 @@ fn build(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
             p.float("ext_ior")
         )));
     }
-    Ok(Box::new(RoughDielectric {
+    Ok(RoughDielectric {
         distribution,
         eta,
         reflectance: p.rgb("specular_reflectance"),
         transmittance: p.rgb("specular_transmittance"),
-    }))
+    })
 }
 
 /// Registry entry.
@@ -231,7 +231,7 @@ pub const SPEC: ModelSpec = ModelSpec {
     summary: "rough glass: microfacet reflection and refraction (Walter 2007), Beckmann or GGX (transmits)",
     reference: "Walter, Marschner, Li, Torrance 2007, Microfacet Models for Refraction through Rough Surfaces",
     params,
-    build,
+    build: by_value!(make),
     showcase: &[
         &[("distribution", "ggx"), ("alpha", "0.5")],
         &[("alpha_u", "0.05"), ("alpha_v", "0.3"), ("int_ior", "1.333")],

@@ -1,7 +1,7 @@
 //! Roughness parameters shared by the rough models: `alpha`, and `alpha_u`/`alpha_v` for
 //! anisotropy, where 0 means "same as alpha" (Mitsuba 3's names and convention).
 
-use crate::params::{ParamError, ParamSpec, Params};
+use crate::params::{ParamError, ParamSource, ParamSpec};
 
 /// Smallest accepted roughness: lobes stay resolvable by f32 directions; a smoother surface
 /// is better described as a mirror.
@@ -17,7 +17,7 @@ pub fn params(default_alpha: f64, alpha_doc: &'static str) -> Vec<ParamSpec> {
 }
 
 /// The resolved (α_x, α_y); an anisotropic value between 0 and `ALPHA_MIN` is an error.
-pub fn from_params(p: &Params) -> Result<(f32, f32), ParamError> {
+pub fn from_params(p: &dyn ParamSource) -> Result<(f32, f32), ParamError> {
     let axis = |name: &str| {
         let v = p.float(name);
         if v == 0.0 {

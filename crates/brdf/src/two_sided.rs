@@ -10,15 +10,16 @@
 //! models, which only reflect. Like Mitsuba, a model that transmits cannot be nested (its two
 //! sides are already defined). Source: Mitsuba 3, `src/bsdfs/twosided.cpp` (behaviour only).
 
-use crate::model::{Brdf, BrdfSample, Claims};
+use crate::model::{Brdf, BrdfSample, Claims, PhongTerms};
+use crate::params::{ParamError, ParamSource, ParamSpec};
+use crate::registry::{build_item, by_value, ModelSpec};
 use radiometry::{Rgb, Vec2, Vec3};
-use std::sync::Arc;
 
 /// A surface that reflects on both sides.
-#[derive(Clone, Debug)]
-pub struct TwoSided {
-    front: Arc<dyn Brdf>,
-    back: Arc<dyn Brdf>,
+#[derive(Clone, Copy, Debug)]
+pub struct TwoSided<F, B> {
+    front: F,
+    back: B,
 }
 
 /// Why a model cannot be made two-sided.
@@ -32,10 +33,10 @@ fn mirror(w: Vec3) -> Vec3 {
     Vec3::new(w.x, w.y, -w.z)
 }
 
-impl TwoSided {
+impl<F: Brdf, B: Brdf> TwoSided<F, B> {
     /// `front` on the front side and `back` on the back side (the same model for both is the
     /// usual case); an error when either transmits.
-    pub fn new(front: Arc<dyn Brdf>, back: Arc<dyn Brdf>) -> Result<Self, TransmissiveNested> {
+    pub fn new(front: F, back: B) -> Result<Self, TransmissiveNested> {
         if front.transmits() || back.transmits() {
             return Err(TransmissiveNested);
         }
@@ -43,7 +44,7 @@ impl TwoSided {
     }
 }
 
-impl Brdf for TwoSided {
+impl<F: Brdf, B: Brdf> Brdf for TwoSided<F, B> {
     fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
         if wo.z > 0.0 {
             self.front.eval(wi, wo)
@@ -101,12 +102,40 @@ impl Brdf for TwoSided {
     fn back_side(&self) -> bool {
         true
     }
+
+    fn phong_terms(&self) -> Option<PhongTerms> {
+        self.front.phong_terms()
+    }
 }
+
+fn params() -> Vec<ParamSpec> {
+    vec![
+        ParamSpec::model("bsdf", "lambert", "the model on the front side (and the back, unless 'back' is given)"),
+        ParamSpec::model("back", "", "the model on the back side; empty: the front one, mirrored"),
+    ]
+}
+
+fn make(p: &dyn ParamSource) -> Result<TwoSided<Box<dyn Brdf>, Box<dyn Brdf>>, ParamError> {
+    let back = if p.model("back").is_empty() { p.model("bsdf") } else { p.model("back") };
+    TwoSided::new(build_item(p.model("bsdf"))?, build_item(back)?)
+        .map_err(|e| ParamError::Inconsistent(format!("parameters 'bsdf' and 'back': {e}")))
+}
+
+/// Registry entry.
+pub const SPEC: ModelSpec = ModelSpec {
+    name: "twosided",
+    summary: "Mitsuba's twosided: a one-sided model on both sides, or two models back to back",
+    reference: "Mitsuba 3 twosided",
+    params,
+    build: by_value!(make),
+    showcase: &[&[("bsdf", "ward:alpha_u=0.1:alpha_v=0.3"), ("back", "lambert:albedo=0.3")]],
+};
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::lambert::Lambert;
+    use std::sync::Arc;
 
     #[test]
     fn back_side_is_the_mirrored_back_model() {

@@ -21,8 +21,8 @@
 
 use crate::combine;
 use crate::model::{reflect_about_half_vector, same_upper_hemisphere, Brdf, BrdfSample, Claims};
-use crate::params::{ParamError, ParamSpec, Params};
-use crate::registry::ModelSpec;
+use crate::params::{ParamError, ParamSource, ParamSpec};
+use crate::registry::{by_value, ModelSpec};
 use crate::roughness;
 use radiometry::{Rgb, Vec2, Vec3};
 use std::f32::consts::{PI, TAU};
@@ -130,10 +130,10 @@ fn params() -> Vec<ParamSpec> {
     v
 }
 
-fn build(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
+fn make(p: &dyn ParamSource) -> Result<combine::DiffuseGlossy<Ward>, ParamError> {
     let (ax, ay) = roughness::from_params(p)?;
     let lobe = Ward { ks: p.rgb("ks"), alpha_x: ax, alpha_y: ay };
-    Ok(combine::with_diffuse(p, Box::new(lobe), lobe.nominal_albedo()))
+    Ok(combine::with_diffuse(p, lobe, lobe.nominal_albedo()))
 }
 
 /// Registry entry.
@@ -142,7 +142,7 @@ pub const SPEC: ModelSpec = ModelSpec {
     summary: "Ward's anisotropic Gaussian lobe ρ_s e^(−tan²θh(…))/(4π α_x α_y √(cos θi cos θo)): reciprocal",
     reference: "Ward 1992, Measuring and Modeling Anisotropic Reflection; Walter 2005, Notes on the Ward BRDF",
     params,
-    build,
+    build: by_value!(make),
     // Brushed metal (anisotropic); a rough white lobe, much of it cut off by the horizon (its albedo
     // passes 1 only within ~0.3° of grazing, see the tests); a sharp lobe on a diffuse one.
     showcase: &[

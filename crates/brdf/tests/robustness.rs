@@ -32,6 +32,8 @@ fn draw(spec: &ParamSpec, k: usize, rng: &mut Pcg64) -> String {
         ParamKind::Bool => (pick(2, rng) == 1).to_string(),
         // Models read from files are skipped below; tests/measured.rs stresses them on a table.
         ParamKind::Path => String::new(),
+        // Wrappers keep their default nested model; every model is stressed on its own.
+        ParamKind::Model => spec.default.to_string(),
     }
 }
 

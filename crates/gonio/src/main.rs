@@ -15,6 +15,7 @@ macro_rules! outln {
 
 mod cli;
 mod cmd;
+mod demo_scene;
 mod modelarg;
 mod output;
 mod plot;

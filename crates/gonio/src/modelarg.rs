@@ -110,7 +110,7 @@ pub fn value_json(v: &Value) -> serde_json::Value {
         Value::Rgb(c) => serde_json::json!(c),
         Value::Choice(s) => serde_json::json!(s),
         Value::Bool(b) => serde_json::json!(b),
-        Value::Path(p) => serde_json::json!(p),
+        Value::Path(p) | Value::Model(p) => serde_json::json!(p),
     }
 }
 

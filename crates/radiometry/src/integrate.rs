@@ -81,6 +81,33 @@ pub fn point_irradiance(intensity: f64, distance: f64, cos_theta: f64) -> f64 {
     intensity * cos_theta.max(0.0) / (distance * distance)
 }
 
+/// Gauss–Legendre nodes and weights on [0, 1] (Newton's iteration on P_n from the Chebyshev guess).
+pub fn gauss_legendre01(n: usize) -> Vec<(f64, f64)> {
+    let mut out = Vec::with_capacity(n);
+    for i in 0..n {
+        let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+        let mut dp = 1.0;
+        for _ in 0..100 {
+            // P_n(x) and P_n'(x) by the three-term recurrence.
+            let (mut p0, mut p1) = (1.0, x);
+            for k in 2..=n {
+                let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+                p0 = p1;
+                p1 = p2;
+            }
+            dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
+            let dx = p1 / dp;
+            x -= dx;
+            if dx.abs() < 1e-15 {
+                break;
+            }
+        }
+        let w = 2.0 / ((1.0 - x * x) * dp * dp);
+        out.push((0.5 * (x + 1.0), 0.5 * w));
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -122,5 +149,14 @@ mod tests {
         let alpha = (radius / r).asin();
         let integral = PI * lum * alpha.sin().powi(2);
         assert!((point_irradiance(intensity, r, 1.0) - integral).abs() < 1e-9);
+    }
+
+    #[test]
+    fn gauss_legendre_integrates_polynomials_exactly() {
+        // n nodes integrate degree 2n − 1 exactly: ∫₀¹ x^9 dx = 1/10 with 5 nodes.
+        let q = gauss_legendre01(5);
+        let s: f64 = q.iter().map(|&(x, w)| w * x.powi(9)).sum();
+        assert!((s - 0.1).abs() < 1e-14, "{s}");
+        assert!((q.iter().map(|q| q.1).sum::<f64>() - 1.0).abs() < 1e-14);
     }
 }

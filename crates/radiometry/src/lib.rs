@@ -3,11 +3,14 @@
 //!
 //! Directions are unit `Vec3` in a z-up local frame: `cos_theta(w) = w.z`.
 
+pub mod cie;
+pub mod distribution;
 pub mod frame;
 pub mod integrate;
 pub mod spectrum;
 pub mod spherical;
 pub mod warp;
+pub mod warp2d;
 
 pub use frame::Frame;
 pub use glam::{DVec3, Vec2, Vec3};

@@ -171,7 +171,7 @@ fn camera_rays(cam: &Camera) -> Vec<Ray> {
             for x in 0..cam.width {
                 let pixel = u64::from(y * cam.width + x);
                 let u = Sampler::new(7, pixel, u64::from(s)).next_2d();
-                rays.push(cam.ray(Vec2::new(x as f32, y as f32) + u));
+                rays.push(cam.ray(Vec2::new(x as f32, y as f32) + u, Vec2::splat(0.5)));
             }
         }
     }
@@ -271,7 +271,7 @@ fn torus_scene(mesh: TriangleMesh) -> Scene {
 fn scene_rays(scene: &Scene) -> (Vec<Ray>, Vec<Ray>, Vec<Ray>) {
     let cam = &scene.camera;
     let primary: Vec<Ray> = (0..cam.height)
-        .flat_map(|y| (0..cam.width).map(move |x| cam.ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5))))
+        .flat_map(|y| (0..cam.width).map(move |x| cam.ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5), Vec2::splat(0.5))))
         .collect();
     let mut s = Sampler::new(1, 0, 0);
     let hits: Vec<_> = primary.iter().filter_map(|r| scene.intersect(r)).collect();
@@ -303,7 +303,7 @@ fn criterion_runs(c: &mut Criterion, scene: &Scene, mesh: &TriangleMesh) {
 }
 
 fn main() {
-    let mesh = match render::io::load_mesh(torus_path(), false) {
+    let mesh = match render::io::load_mesh(torus_path()) {
         Ok(m) => m,
         Err(e) => {
             eprintln!("BVH benchmark skipped: {e}");

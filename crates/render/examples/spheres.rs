@@ -18,7 +18,7 @@ fn main() -> render::Result<()> {
     let args: Vec<String> = std::env::args().collect();
     let out = PathBuf::from(args.get(1).map(String::as_str).unwrap_or("."));
     let spp: u32 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(64);
-    let opts = RenderOptions { spp, integrator: Integrator::Path { max_depth: 8, rr_depth: 5 }, ..Default::default() };
+    let opts = RenderOptions { spp, integrator: Integrator::path(8, 5), ..Default::default() };
     let progress = |_| {};
 
     let cam = Camera::new(
@@ -40,7 +40,7 @@ fn main() -> render::Result<()> {
     ];
     for (i, m) in balls.into_iter().enumerate() {
         let center = Vec3::new(-3.3 + 2.2 * i as f32, 1.0, 0.0);
-        b.shape(Shape::new(Geometry::Sphere(Sphere { center, radius: 1.0 }), m));
+        b.shape(Shape::new(Geometry::Sphere(Sphere::new(center, 1.0)), m));
     }
     b.light(Light::Constant(ConstantEnv { radiance: Rgb::ONE }));
     b.light(Light::Point(PointLight { position: Vec3::new(3.0, 7.0, 4.0), intensity: Rgb::splat(150.0) }));
@@ -56,7 +56,7 @@ fn main() -> render::Result<()> {
             Camera::new(look_at(Vec3::new(0.0, 0.6, 4.0), Vec3::ZERO, Vec3::Y).unwrap(), 40.0, FovAxis::X, 256, 256);
         let mut b = SceneBuilder::new(cam);
         b.shape(Shape::new(
-            Geometry::Sphere(Sphere { center: Vec3::ZERO, radius: 1.0 }),
+            Geometry::Sphere(Sphere::new(Vec3::ZERO, 1.0)),
             model("ggx", &[("alpha", "0.05"), ("material", "Al")]),
         ));
         b.light(Light::EnvMap(Box::new(EnvMap::new(&sky, 1.0)?)));
@@ -67,7 +67,7 @@ fn main() -> render::Result<()> {
 
         // shared/bench/scenes/mesh.xml with a diffuse-plus-GGX model instead of roughplastic.
         let torus = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/bench/data/torus.ply");
-        if let Ok(mesh) = render::io::load_mesh(&torus, false) {
+        if let Ok(mesh) = render::io::load_mesh(&torus) {
             let cam = Camera::new(
                 look_at(Vec3::new(0.0, 1.4, 5.0), Vec3::ZERO, Vec3::Y).unwrap(),
                 40.0,

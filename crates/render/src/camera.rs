@@ -1,10 +1,38 @@
-//! The perspective pinhole camera, with Mitsuba 3's conventions: camera space looks along
-//! +z with +x to the left and +y up; `look_at` builds the to-world matrix whose columns are
-//! (left, up, forward, origin); `fov` is in degrees along `fov_axis`.
+//! Cameras with Mitsuba 3's conventions: camera space looks along +z with +x to the left and
+//! +y up; `look_at` builds the to-world matrix whose columns are (left, up, forward, origin).
+//!
+//! - `perspective`: a pinhole with `fov` degrees along `fov_axis`. A film position f (in
+//!   [0, 1]² of the full film, plus the principal point offset) looks along
+//!   (t_x (1 − 2 f_x), t_y (1 − 2 f_y), 1), t = tan(fov/2) per axis.
+//! - `thinlens`: the same frustum through a lens of `aperture_radius` focused on the plane
+//!   z = `focus_distance`: the ray leaves a point of the lens (concentric disk sample) for the
+//!   point of the focal plane the pinhole ray through f reaches.
+//! - `orthographic`: parallel rays along +z from (1 − 2 f_x, (1 − 2 f_y) H/W) on the near
+//!   plane, through `to_world` (whose scale sets the view's extent).
+//!
+//! Rays start on the near plane and end at the far plane, as Mitsuba's do. A crop window
+//! renders a sub-rectangle of the film: the frustum stays the full film's.
 
 use crate::filter::Filter;
 use crate::ray::Ray;
 use glam::{Mat4, Vec2, Vec3, Vec4};
+use radiometry::warp::concentric_disk;
+
+/// How a camera projects.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// A pinhole.
+    Perspective,
+    /// A thin lens.
+    ThinLens {
+        /// Lens radius, scene units.
+        aperture_radius: f32,
+        /// Distance of the plane in focus along the view axis.
+        focus_distance: f32,
+    },
+    /// Parallel rays.
+    Orthographic,
+}
 
 /// Which image extent `fov` spans.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -44,15 +72,21 @@ pub fn look_at(origin: Vec3, target: Vec3, up: Vec3) -> Option<Mat4> {
     Some(Mat4::from_cols(left.extend(0.0), new_up.extend(0.0), dir.extend(0.0), origin.extend(1.0)))
 }
 
-/// A pinhole camera producing rays through a `width` × `height` film.
+/// A camera producing rays through a film.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
     /// Camera space (x left, y up, z forward) to world.
     pub to_world: Mat4,
-    /// Film width in pixels.
+    /// Image width in pixels (the crop window's).
     pub width: u32,
-    /// Film height in pixels.
+    /// Image height in pixels (the crop window's).
     pub height: u32,
+    /// The full film's size in pixels, which the frustum spans.
+    pub film: (u32, u32),
+    /// The crop window's top-left pixel on the film.
+    pub crop_offset: (u32, u32),
+    /// The principal point's shift, as fractions of the film's width and height.
+    pub principal_point: Vec2,
     /// tan of half the field of view along x and y.
     tan_half: Vec2,
     /// Rays start this far along camera-space z (Mitsuba's near_clip).
@@ -61,10 +95,12 @@ pub struct Camera {
     pub far_clip: f32,
     /// The film's reconstruction filter (box unless set).
     pub filter: Filter,
+    /// The projection.
+    pub projection: Projection,
 }
 
 impl Camera {
-    /// A camera with `fov_deg` degrees along `axis`; `to_world` as from [`look_at`].
+    /// A pinhole camera with `fov_deg` degrees along `axis`; `to_world` as from [`look_at`].
     pub fn new(to_world: Mat4, fov_deg: f32, axis: FovAxis, width: u32, height: u32) -> Self {
         let (w, h) = (width.max(1) as f32, height.max(1) as f32);
         let t = (0.5 * fov_deg.to_radians()).tan();
@@ -84,41 +120,78 @@ impl Camera {
             to_world,
             width,
             height,
+            film: (width, height),
+            crop_offset: (0, 0),
+            principal_point: Vec2::ZERO,
             tan_half: Vec2::new(tan_x, tan_x * h / w),
             near_clip: 0.0,
             far_clip: f32::INFINITY,
             filter: Filter::Box,
+            projection: Projection::Perspective,
         }
     }
 
-    /// A film position for a sample of pixel `pixel` (its top-left corner) drawn from the
-    /// filter with uniform `u`, and the weight that multiplies the sample's radiance.
+    /// The same camera rendering only the `width` × `height` window at `offset` of its film;
+    /// None when the window does not fit.
+    pub fn cropped(mut self, offset: (u32, u32), width: u32, height: u32) -> Option<Self> {
+        let fits = |o: u32, s: u32, f: u32| s >= 1 && o.checked_add(s).is_some_and(|e| e <= f);
+        if !(fits(offset.0, width, self.film.0) && fits(offset.1, height, self.film.1)) {
+            return None;
+        }
+        self.crop_offset = offset;
+        self.width = width;
+        self.height = height;
+        Some(self)
+    }
+
+    /// True when a ray needs a lens sample.
     #[inline]
-    pub fn film_sample(&self, pixel: Vec2, u: Vec2) -> (Vec2, f32) {
-        match &self.filter {
-            Filter::Box => (pixel + u, 1.0),
-            f => {
-                let (offset, weight) = f.sample(u);
-                (pixel + Vec2::splat(0.5) + offset, weight)
+    pub fn needs_aperture_sample(&self) -> bool {
+        matches!(self.projection, Projection::ThinLens { .. })
+    }
+
+    /// The point of the film for image position `film` (pixels of the crop window), as
+    /// fractions of the full film.
+    #[inline]
+    fn film_fraction(&self, film: Vec2) -> Vec2 {
+        let off = Vec2::new(self.crop_offset.0 as f32, self.crop_offset.1 as f32);
+        (film + off) / Vec2::new(self.film.0 as f32, self.film.1 as f32) + self.principal_point
+    }
+
+    /// The ray through image position `film` in pixels (x right, y down; pixel (i, j) covers
+    /// [i, i+1) × [j, j+1)), through lens point `aperture` (uniform in [0, 1)², used by the
+    /// thin lens), limited to [near_clip, far_clip] along the view axis.
+    pub fn ray(&self, film: Vec2, aperture: Vec2) -> Ray {
+        let f = self.film_fraction(film);
+        let (nx, ny) = (1.0 - 2.0 * f.x, 1.0 - 2.0 * f.y);
+        // The translation column: transform_point3(0) would multiply the other columns by 0.
+        let origin = self.to_world.w_axis.truncate();
+        let depth = (self.far_clip - self.near_clip).max(0.0);
+        match self.projection {
+            Projection::Perspective => {
+                // Camera +x is to the left, so the left image edge (nx = 1) maps to +x.
+                let local = Vec3::new(nx * self.tan_half.x, ny * self.tan_half.y, 1.0);
+                let d_world = self.to_world.transform_vector3(local);
+                let len = d_world.length();
+                let d = d_world / len;
+                // local.z = 1, so one unit of camera depth is `len` world units along d.
+                Ray { o: origin + d * (self.near_clip * len), d, t_max: depth * len }
+            }
+            Projection::ThinLens { aperture_radius, focus_distance } => {
+                let focus = Vec3::new(nx * self.tan_half.x, ny * self.tan_half.y, 1.0) * focus_distance;
+                let lens = (concentric_disk(aperture) * aperture_radius).extend(0.0);
+                let local = (focus - lens).normalize();
+                let d = self.to_world.transform_vector3(local).normalize();
+                let o = self.to_world.transform_point3(lens);
+                Ray { o: o + d * (self.near_clip / local.z), d, t_max: depth / local.z }
+            }
+            Projection::Orthographic => {
+                let (w, h) = (self.film.0.max(1) as f32, self.film.1.max(1) as f32);
+                let o = self.to_world.transform_point3(Vec3::new(nx, ny * h / w, self.near_clip));
+                let d = self.to_world.transform_vector3(Vec3::Z).normalize();
+                Ray { o, d, t_max: depth }
             }
         }
-    }
-
-    /// The ray through film position `film` in pixels (x right, y down; pixel (i, j) covers
-    /// [i, i+1) × [j, j+1)), limited to [near_clip, far_clip] along the view axis.
-    pub fn ray(&self, film: Vec2) -> Ray {
-        let nx = 1.0 - 2.0 * film.x / self.width as f32;
-        let ny = 1.0 - 2.0 * film.y / self.height as f32;
-        // Camera +x is to the left, so the left image edge (nx = 1) maps to +x.
-        let local = Vec3::new(nx * self.tan_half.x, ny * self.tan_half.y, 1.0);
-        // The translation column: transform_point3(0) would multiply the other columns by 0.
-        let o = self.to_world.w_axis.truncate();
-        let d_world = self.to_world.transform_vector3(local);
-        let len = d_world.length();
-        let d = d_world / len;
-        // local.z = 1, so one unit of camera depth is `len` world units along d.
-        let t_min = self.near_clip * len;
-        Ray { o: o + d * t_min, d, t_max: (self.far_clip - self.near_clip).max(0.0) * len }
     }
 
     /// The camera position in world space.
@@ -135,14 +208,14 @@ mod tests {
     fn look_at_centre_and_edges() {
         let m = look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y).unwrap();
         let cam = Camera::new(m, 90.0, FovAxis::X, 64, 32);
-        let c = cam.ray(Vec2::new(32.0, 16.0));
+        let c = cam.ray(Vec2::new(32.0, 16.0), Vec2::splat(0.5));
         assert!((c.d - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-6);
         assert!((c.o - Vec3::new(0.0, 0.0, 5.0)).length() < 1e-6);
         // 90° along x: the right edge is 45° to the right (+x in world when looking down -z).
-        let r = cam.ray(Vec2::new(64.0, 16.0));
+        let r = cam.ray(Vec2::new(64.0, 16.0), Vec2::splat(0.5));
         assert!((r.d - Vec3::new(1.0, 0.0, -1.0).normalize()).length() < 1e-6, "{:?}", r.d);
         // The top edge: tan = 0.5 (height/width), upwards.
-        let t = cam.ray(Vec2::new(32.0, 0.0));
+        let t = cam.ray(Vec2::new(32.0, 0.0), Vec2::splat(0.5));
         assert!((t.d - Vec3::new(0.0, 0.5, -1.0).normalize()).length() < 1e-6, "{:?}", t.d);
     }
 

@@ -1,17 +1,21 @@
-//! Pixel reconstruction filters, applied by filter importance sampling: each camera sample
-//! lands at an offset from the pixel centre drawn ∝ the filter, so the plain mean of the
-//! samples' radiance (times a weight that is 1 for exact sampling) estimates the filtered
-//! image ∫ f(x) L(x) dx / ∫ f (Ernst et al., "Filter Importance Sampling", RT 2006).
-//! Mitsuba splats every sample into all pixels its filter reaches and divides by the summed
-//! weights; the two estimate the same image away from its edges, with different noise. The
-//! renderer splats (`film.rs`, ~4× less variance for the Gaussian) for every filter but the
-//! box; `Camera::film_sample` keeps the importance-sampled estimate.
+//! Pixel reconstruction filters (Mitsuba 3's `rfilter`s), all separable, f(x, y) = f(x) f(y),
+//! x in pixels from the pixel centre. The box filter is the pixel's square: each sample counts
+//! in its own pixel. Every other filter is splatted: each sample adds f·L and f to every pixel
+//! it reaches and a pixel is Σ f·L / Σ f (`film.rs`), as Mitsuba's `hdrfilm` does.
 //!
-//! `box`: the pixel's square, f = 1 on [−½, ½]². `gaussian` (Mitsuba's): separable,
-//! f(x) = max(0, exp(−x²/2σ²) − exp(−r²/2σ²)) per axis with r = 4σ, σ = 0.5 px by default.
+//! - `box`: f = 1 on [−½, ½].
+//! - `gaussian`: f(x) = max(0, exp(−x²/2σ²) − exp(−r²/2σ²)), r = 4σ, σ = 0.5 px by default.
+//! - `tent`: f(x) = max(0, 1 − |x|/r), r = 1 by default.
+//! - `mitchell` (B, C = ⅓, ⅓ by default) and `catmullrom` (B = 0, C = ½): the cubics of
+//!   Mitchell & Netravali, "Reconstruction filters in computer graphics", SIGGRAPH 1988, r = 2.
+//! - `lanczos` (L = 3 lobes by default): sinc(x) sinc(x/L) for |x| ≤ L.
+//!
+//! The Gaussian can also be importance sampled (Ernst et al., "Filter Importance Sampling",
+//! RT 2006), the estimator splatting is measured against.
 
-use crate::distribution::Distribution1D;
 use glam::Vec2;
+use radiometry::distribution::Distribution1D;
+use std::f32::consts::PI;
 
 /// Cells of the tabulated 1D Gaussian: its sampling density is piecewise constant over them,
 /// and the weight f/(pdf·∫f) corrects the rest exactly.
@@ -25,6 +29,23 @@ pub enum Filter {
     Box,
     /// Mitsuba's windowed Gaussian.
     Gaussian(Gaussian),
+    /// The triangle of half-width `radius` px.
+    Tent {
+        /// Half-width in pixels.
+        radius: f32,
+    },
+    /// Mitchell–Netravali's cubic (Catmull–Rom for B = 0, C = ½).
+    Mitchell {
+        /// The B parameter.
+        b: f32,
+        /// The C parameter.
+        c: f32,
+    },
+    /// The windowed sinc with `lobes` lobes.
+    Lanczos {
+        /// Lobes (the radius in pixels).
+        lobes: u32,
+    },
 }
 
 impl Filter {
@@ -33,34 +54,51 @@ impl Filter {
         Gaussian::new(stddev).map(Filter::Gaussian)
     }
 
-    /// An offset from the pixel centre (in pixels) and the sample's weight.
-    #[inline]
-    pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
-        match self {
-            Filter::Box => (u - Vec2::splat(0.5), 1.0),
-            Filter::Gaussian(g) => {
-                let (x, wx) = g.sample_1d(u.x);
-                let (y, wy) = g.sample_1d(u.y);
-                (Vec2::new(x, y), wx * wy)
-            }
-        }
-    }
-
     /// The separable 1D factor at offset `x` pixels (unnormalised: the splatting film divides
     /// by the summed weights).
     #[inline]
     pub fn eval_1d(&self, x: f32) -> f32 {
-        match self {
+        match *self {
             Filter::Box => (x.abs() <= 0.5) as u8 as f32,
-            Filter::Gaussian(g) => g.eval(x),
+            Filter::Gaussian(ref g) => g.eval(x),
+            Filter::Tent { radius } => (1.0 - x.abs() / radius).max(0.0),
+            Filter::Mitchell { b, c } => {
+                let x = x.abs();
+                let x2 = x * x;
+                let v = if x < 1.0 {
+                    (12.0 - 9.0 * b - 6.0 * c) * x2 * x + (-18.0 + 12.0 * b + 6.0 * c) * x2 + (6.0 - 2.0 * b)
+                } else if x < 2.0 {
+                    (-b - 6.0 * c) * x2 * x
+                        + (6.0 * b + 30.0 * c) * x2
+                        + (-12.0 * b - 48.0 * c) * x
+                        + (8.0 * b + 24.0 * c)
+                } else {
+                    0.0
+                };
+                v / 6.0
+            }
+            Filter::Lanczos { lobes } => {
+                let (x, l) = (x.abs(), lobes as f32);
+                if x < 1e-6 {
+                    1.0
+                } else if x > l {
+                    0.0
+                } else {
+                    let (a, b) = (PI * x, PI * x / l);
+                    a.sin() * b.sin() / (a * b)
+                }
+            }
         }
     }
 
     /// The filter's radius in pixels.
     pub fn radius(&self) -> f32 {
-        match self {
+        match *self {
             Filter::Box => 0.5,
-            Filter::Gaussian(g) => g.radius,
+            Filter::Gaussian(ref g) => g.radius,
+            Filter::Tent { radius } => radius,
+            Filter::Mitchell { .. } => 2.0,
+            Filter::Lanczos { lobes } => lobes as f32,
         }
     }
 }
@@ -109,6 +147,14 @@ impl Gaussian {
         Self::eval_with(self.stddev as f64, self.radius as f64, x as f64) as f32
     }
 
+    /// An offset from the pixel centre drawn ∝ the filter (in pixels) and the sample's weight,
+    /// of mean 1: filter importance sampling.
+    pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
+        let (x, wx) = self.sample_1d(u.x);
+        let (y, wy) = self.sample_1d(u.y);
+        (Vec2::new(x, y), wx * wy)
+    }
+
     /// An offset drawn from the table and its weight f(x)/(pdf(x) ∫f), of mean 1.
     fn sample_1d(&self, u: f32) -> (f32, f32) {
         let (i, p, rest) = self.table.sample(u);
@@ -152,6 +198,33 @@ mod tests {
         }
         assert!((sx2 / n as f64 - num / den).abs() < 2e-3, "{} vs {}", sx2 / n as f64, num / den);
         assert!(Filter::gaussian(0.0).is_none() && Filter::gaussian(f32::NAN).is_none());
-        assert_eq!(Filter::Box.sample(Vec2::new(0.25, 0.75)), (Vec2::new(-0.25, 0.25), 1.0));
+    }
+
+    #[test]
+    fn filters_match_mitsuba() {
+        // Mitsuba 3.9.1's exact (JIT-variant) filter values.
+        let cases: [(Filter, &[(f32, f32)]); 4] = [
+            (Filter::Tent { radius: 1.0 }, &[(0.1, 0.9), (0.5, 0.5), (0.75, 0.25)]),
+            (
+                Filter::Mitchell { b: 1.0 / 3.0, c: 1.0 / 3.0 },
+                &[(0.0, 0.88888896), (0.5, 0.53472227), (1.0, 0.055555623), (1.25, -0.023437422), (1.5, -0.034721967)],
+            ),
+            (
+                Filter::Mitchell { b: 0.0, c: 0.5 },
+                &[(0.0, 1.0), (0.25, 0.8671875), (0.5, 0.5625), (1.0, 0.0), (1.25, -0.0703125), (1.5, -0.0625)],
+            ),
+            (
+                Filter::Lanczos { lobes: 3 },
+                &[(0.5, 0.60792708), (1.25, -0.13287102), (1.5, -0.13509491), (2.5, 0.024317075)],
+            ),
+        ];
+        for (f, values) in cases {
+            for &(x, want) in values {
+                assert!((f.eval_1d(x) - want).abs() < 2e-6, "{f:?} at {x}: {} vs {want}", f.eval_1d(x));
+                assert_eq!(f.eval_1d(-x), f.eval_1d(x));
+            }
+            assert_eq!(f.eval_1d(f.radius() + 0.01), 0.0);
+        }
+        assert!((Filter::Lanczos { lobes: 2 }.eval_1d(0.5) - 0.57315916).abs() < 2e-6);
     }
 }

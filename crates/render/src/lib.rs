@@ -13,8 +13,8 @@
 //! let cam = camera::Camera::new(to_world, 40.0, camera::FovAxis::X, 64, 64);
 //! let mut b = scene::SceneBuilder::new(cam);
 //! let white = brdf::build("lambert", &[("albedo", "1")]).unwrap();
-//! let ball = shape::Geometry::Sphere(shape::Sphere { center: [0.; 3].into(), radius: 1.0 });
-//! b.shape(scene::Shape::new(ball, white.into()));
+//! let ball = shape::Geometry::Sphere(shape::Sphere::new([0.; 3].into(), 1.0));
+//! b.shape(scene::Shape::new(ball, white));
 //! b.light(light::Light::Constant(light::ConstantEnv { radiance: radiometry::Rgb::ONE }));
 //! let img = render::render(&b.build()?, &RenderOptions { spp: 16, ..Default::default() }, |_| {});
 //! img.save("furnace.exr")?;
@@ -24,8 +24,6 @@
 pub mod atan;
 pub mod bvh;
 pub mod camera;
-pub mod demo;
-pub mod distribution;
 pub mod envmap_convert;
 pub mod error;
 pub mod film;
@@ -34,12 +32,13 @@ pub mod image;
 pub mod integrator;
 pub mod io;
 pub mod light;
+pub mod material;
 pub mod ray;
 pub mod renderer;
 pub mod sampler;
 pub mod scene;
 pub mod shape;
-pub mod warp2d;
+pub mod texture;
 pub mod xml;
 
 pub use error::{Error, Result};

@@ -82,6 +82,14 @@ pub fn render(scene: &Scene, opts: &RenderOptions, progress: impl Fn(Progress) +
     }
 }
 
+/// The camera ray through image position `pos`, with a lens sample drawn when the camera has
+/// a lens (Mitsuba's order: position, then lens, then the integrator's numbers).
+#[inline]
+pub fn camera_ray(scene: &Scene, pos: Vec2, sampler: &mut crate::sampler::Sampler) -> crate::ray::Ray {
+    let aperture = if scene.camera.needs_aperture_sample() { sampler.next_2d() } else { Vec2::splat(0.5) };
+    scene.camera.ray(pos, aperture)
+}
+
 /// What every row task of a render shares.
 struct Run<'a, P> {
     scene: &'a Scene,
@@ -116,8 +124,8 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
                     let key = PixelKey::new(opts.seed, (y * w + x) as u64);
                     for s in s0..s1 {
                         let mut sampler = key.sampler(s as u64);
-                        let (film, weight) = scene.camera.film_sample(Vec2::new(x as f32, y as f32), sampler.next_2d());
-                        let l = opts.integrator.li(scene, scene.camera.ray(film), &mut sampler) * weight;
+                        let pos = Vec2::new(x as f32, y as f32) + sampler.next_2d();
+                        let l = opts.integrator.li(scene, camera_ray(scene, pos, &mut sampler), &mut sampler);
                         for (a, c) in acc.iter_mut().zip(l.0) {
                             *a += c as f64;
                         }
@@ -165,7 +173,10 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
                         for s in s0..s1 {
                             let mut sampler = key.sampler(s as u64);
                             let pos = Vec2::new(x as f32, y as f32) + sampler.next_2d();
-                            buf.splat(pos, opts.integrator.li(scene, scene.camera.ray(pos), &mut sampler));
+                            buf.splat(
+                                pos,
+                                opts.integrator.li(scene, camera_ray(scene, pos, &mut sampler), &mut sampler),
+                            );
                         }
                     }
                     self.row_done(w, s1 - s0);

@@ -1,34 +1,34 @@
-//! A scene: a camera, shapes each with a BRDF (and optionally an emission), lights, and the
-//! BVH over every primitive. Built once with [`SceneBuilder`], then only read.
+//! A scene: a camera, shapes each with a material (and optionally an emission), lights, and
+//! the BVH over every primitive. Built once with [`SceneBuilder`], then only read.
 
 use crate::bvh::{Bvh, Ray4, Tri4, Visit};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
-use crate::integrator::phong::PhongCoefficients;
 use crate::light::{AreaLight, Light, LightSample, RefPoint};
+use crate::material::Material;
 use crate::ray::{spawn_ray, spawn_ray_to, surface_epsilon, Ray};
 use crate::shape::mesh::intersect_triangle;
-use crate::shape::{Geometry, Sphere};
-use brdf::Brdf;
+use crate::shape::{Geometry, Sphere, SurfacePoint};
+use crate::texture::Texture;
 use glam::{Vec2, Vec3};
 use radiometry::{Frame, Rgb};
-use std::sync::Arc;
 
-/// A shape with its reflection model and, when it glows, its emitted radiance.
+/// A shape with its material and, when it glows, its emitted radiance.
 #[derive(Clone, Debug)]
 pub struct Shape {
     /// The geometry, in world space.
     pub geometry: Geometry,
-    /// How it reflects (shared: many shapes may use one model).
-    pub brdf: Arc<dyn Brdf>,
-    /// Radiance emitted from its front side, W/(m²·sr); makes it an area light.
-    pub emission: Option<Rgb>,
+    /// How it scatters.
+    pub material: Material,
+    /// Radiance emitted from the side its shading normal faces, W/(m²·sr), over its uv;
+    /// makes it an area light.
+    pub emission: Option<Texture>,
 }
 
 impl Shape {
     /// A non-emitting shape.
-    pub fn new(geometry: Geometry, brdf: Arc<dyn Brdf>) -> Self {
-        Shape { geometry, brdf, emission: None }
+    pub fn new(geometry: Geometry, material: impl Into<Material>) -> Self {
+        Shape { geometry, material: material.into(), emission: None }
     }
 }
 
@@ -49,12 +49,25 @@ pub struct SurfaceInteraction {
     pub t: f32,
     /// The point.
     pub p: Vec3,
-    /// Unit geometric normal (the shape's front side).
+    /// Unit geometric normal.
     pub ng: Vec3,
-    /// Shading frame (its `n` is the shading normal).
+    /// Shading frame (its `n` is the shading normal, its `s` follows ∂p/∂u).
     pub frame: Frame,
+    /// Surface coordinates.
+    pub uv: Vec2,
+    /// ∂p/∂u.
+    pub dp_du: Vec3,
+    /// ∂p/∂v.
+    pub dp_dv: Vec3,
     /// The shape's index.
     pub shape: usize,
+}
+
+impl SurfaceInteraction {
+    /// The interaction at surface point `s` of shape `shape`, `t` along the ray.
+    pub fn new(t: f32, s: &SurfacePoint, shape: usize) -> Self {
+        SurfaceInteraction { t, p: s.p, ng: s.ng, frame: s.frame(), uv: s.uv, dp_du: s.dp_du, dp_dv: s.dp_dv, shape }
+    }
 }
 
 /// Collects shapes and lights; `build` makes the BVH and the area lights.
@@ -62,33 +75,18 @@ pub struct SceneBuilder {
     camera: Camera,
     shapes: Vec<Shape>,
     lights: Vec<Light>,
-    phong: Vec<Option<PhongCoefficients>>,
 }
 
 impl SceneBuilder {
     /// An empty scene seen by `camera`.
     pub fn new(camera: Camera) -> Self {
-        SceneBuilder { camera, shapes: Vec::new(), lights: Vec::new(), phong: Vec::new() }
+        SceneBuilder { camera, shapes: Vec::new(), lights: Vec::new() }
     }
 
-    /// Gives shape `shape` the lecture's Phong coefficients, used by `Integrator::Phong`.
-    pub fn set_phong(&mut self, shape: usize, coefficients: PhongCoefficients) -> &mut Self {
-        if self.phong.len() <= shape {
-            self.phong.resize(shape + 1, None);
-        }
-        self.phong[shape] = Some(coefficients);
-        self
-    }
-
-    /// Adds a shape with the registry model `name` and its parameters, and with the model's
-    /// Phong coefficients when it has them (`lambert`, `phong`, `blinn-phong`); returns its index.
+    /// Adds a shape with the registry model `name` and its parameters; returns its index.
     pub fn shape_with_model(&mut self, geometry: Geometry, name: &str, params: &[(&str, &str)]) -> Result<usize> {
         let brdf = brdf::build(name, params).map_err(|e| Error::Invalid(e.to_string()))?;
-        let i = self.shape(Shape::new(geometry, brdf.into()));
-        if let Some(c) = PhongCoefficients::from_model(name, params) {
-            self.set_phong(i, c);
-        }
-        Ok(i)
+        Ok(self.shape(Shape::new(geometry, brdf)))
     }
 
     /// Adds a shape; returns its index.
@@ -105,18 +103,18 @@ impl SceneBuilder {
 
     /// Builds the scene.
     pub fn build(self) -> Result<Scene> {
-        let SceneBuilder { camera, shapes, mut lights, mut phong } = self;
-        phong.resize(shapes.len(), None);
+        let SceneBuilder { camera, shapes, mut lights } = self;
         let mut light_of_shape = vec![None; shapes.len()];
         for (i, s) in shapes.iter().enumerate() {
-            if let Some(radiance) = s.emission {
-                if !radiance.is_finite() || radiance.min_channel() < 0.0 {
+            if let Some(radiance) = &s.emission {
+                let (lo, hi) = radiance.range();
+                if !(lo >= 0.0 && hi.is_finite()) {
                     return Err(Error::Invalid(format!(
-                        "shape {i}: emitted radiance {radiance:?} is not finite and ≥ 0"
+                        "shape {i}: emitted radiance from {lo} to {hi} is not finite and ≥ 0"
                     )));
                 }
                 light_of_shape[i] = Some(lights.len());
-                lights.push(Light::Area(AreaLight { shape: i, radiance }));
+                lights.push(Light::Area(AreaLight { shape: i, radiance: radiance.clone() }));
             }
         }
         if lights.iter().filter(|l| matches!(l, Light::Constant(_) | Light::EnvMap(_))).count() > 1 {
@@ -163,7 +161,7 @@ impl SceneBuilder {
         }
         let linear = prims.len() <= LINEAR_MAX && !prims.iter().any(|p| matches!(p, Prim::Triangle { .. }));
         let environment = lights.iter().position(Light::is_environment);
-        Ok(Scene { camera, shapes, lights, light_of_shape, environment, bvh, prims, tri4, others, linear, refs, phong })
+        Ok(Scene { camera, shapes, lights, light_of_shape, environment, bvh, prims, tri4, others, linear, refs })
     }
 }
 
@@ -193,8 +191,6 @@ pub struct Scene {
     linear: bool,
     /// (shape, primitive within the shape) per BVH-ordered primitive.
     refs: Vec<(u32, u32)>,
-    /// The lecture's Phong coefficients per shape, where given.
-    phong: Vec<Option<PhongCoefficients>>,
 }
 
 impl Scene {
@@ -337,35 +333,24 @@ impl Scene {
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
         let (k, t) = self.intersect_t(ray)?;
         let (shape, index) = self.refs[k];
-        let (p, ng, ns) = match (&self.prims[k], &self.shapes[shape as usize].geometry) {
+        let surface = match (&self.prims[k], &self.shapes[shape as usize].geometry) {
             (Prim::Triangle { p0, e1, e2 }, Geometry::Mesh(m)) => {
                 // Recompute the barycentrics of the winning triangle (cheaper than carrying them).
                 let (_, u, v) = intersect_triangle(ray.o, ray.d, f32::INFINITY, *p0, *e1, *e2).unwrap_or((t, 0.0, 0.0));
-                let (ng, ns) = m.normals_at(index as usize, u, v);
-                (*p0 + *e1 * u + *e2 * v, ng, ns)
+                m.surface(index as usize, u, v)
             }
-            (Prim::Sphere(s), _) => {
-                let p = s.reproject(ray.at(t));
-                let n = s.normal(p);
-                (p, n, n)
-            }
-            (_, Geometry::Rectangle(r)) => (ray.at(t), r.n, r.n),
-            (_, Geometry::Disk(dk)) => (ray.at(t), dk.normal(), dk.normal()),
+            (Prim::Sphere(s), _) => s.surface(ray.at(t)),
+            (_, Geometry::Rectangle(r)) => r.surface(ray.at(t)),
+            (_, Geometry::Disk(dk)) => dk.surface(ray.at(t)),
             _ => unreachable!("primitive and shape kinds always match"),
         };
-        Some(SurfaceInteraction { t, p, ng, frame: Frame::from_normal(ns), shape: shape as usize })
+        Some(SurfaceInteraction::new(t, &surface, shape as usize))
     }
 
-    /// The Phong coefficients of shape `shape`, when it has them.
+    /// The material of shape `shape`.
     #[inline]
-    pub fn phong(&self, shape: usize) -> Option<&PhongCoefficients> {
-        self.phong.get(shape).and_then(Option::as_ref)
-    }
-
-    /// The BRDF of shape `shape`.
-    #[inline]
-    pub fn brdf(&self, shape: usize) -> &dyn Brdf {
-        &*self.shapes[shape].brdf
+    pub fn material(&self, shape: usize) -> &Material {
+        &self.shapes[shape].material
     }
 
     /// The area light on shape `shape`, with its light index.

@@ -27,12 +27,12 @@ fn envmap_background_matches_mitsuba() {
     let spp = 16;
     let img = render(
         &b.build().unwrap(),
-        &RenderOptions { spp, seed: 1, threads: 0, integrator: Integrator::Direct, cancel: None },
+        &RenderOptions { spp, seed: 1, threads: 0, integrator: Integrator::DIRECT, cancel: None },
         |_| {},
     );
     // Compare the pixels whose whole footprint misses the unit ball of the reference.
     let misses = |f: Vec2| {
-        let r = cam.ray(f);
+        let r = cam.ray(f, Vec2::splat(0.5));
         let b = r.o.dot(r.d);
         b * b - (r.o.length_squared() - 1.0) < 0.0
     };

@@ -6,6 +6,7 @@ use radiometry::Rgb;
 use render::camera::{look_at, Camera, FovAxis};
 use render::light::{ConstantEnv, EnvMap, Light, PointLight};
 use render::shape::{Geometry, Rectangle, Sphere, TriangleMesh};
+use render::texture::Texture;
 use render::{render, Image, Integrator, RenderOptions, Scene, SceneBuilder, Shape};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -41,7 +42,7 @@ fn furnace_scene(w: u32) -> Scene {
 
 fn furnace_with(w: u32, model: Arc<dyn brdf::Brdf>) -> Scene {
     let mut b = SceneBuilder::new(camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 40.0, w, w));
-    b.shape(Shape::new(Geometry::Sphere(Sphere { center: Vec3::ZERO, radius: 1.0 }), model));
+    b.shape(Shape::new(Geometry::Sphere(Sphere::new(Vec3::ZERO, 1.0)), model));
     b.light(Light::Constant(ConstantEnv { radiance: Rgb::ONE }));
     b.build().unwrap()
 }
@@ -49,7 +50,7 @@ fn furnace_with(w: u32, model: Arc<dyn brdf::Brdf>) -> Scene {
 #[test]
 fn white_furnace_is_one_everywhere() {
     let scene = furnace_scene(32);
-    let integrator = Integrator::Path { max_depth: 1000, rr_depth: 5 };
+    let integrator = Integrator::path(1000, 5);
     let a = render(&scene, &opts(16, 1, integrator), |_| {});
     let b = render(&scene, &opts(16, 2, integrator), |_| {});
     // Per-pixel noise from two independent renders: Var(a − b) = 2σ².
@@ -97,7 +98,7 @@ fn white_mirror_furnace_is_one_everywhere() {
     // A perfect mirror (a delta lobe: found only by BRDF sampling) in a constant environment.
     let mirror: Arc<dyn brdf::Brdf> =
         brdf::build("mirror", &[("reflectance", "1"), ("fresnel", "none")]).unwrap().into();
-    let img = render(&furnace_with(16, mirror), &opts(4, 1, Integrator::Path { max_depth: 64, rr_depth: 5 }), |_| {});
+    let img = render(&furnace_with(16, mirror), &opts(4, 1, Integrator::path(64, 5)), |_| {});
     let worst = img.pixels.iter().flat_map(|p| p.0).map(|v| (v - 1.0).abs()).fold(0.0, f32::max);
     assert!(worst < 1e-5, "mirror furnace: worst pixel off by {worst}");
 }
@@ -108,14 +109,18 @@ fn glowing_enclosure_follows_the_neumann_series_at_every_depth() {
     // have at most k vertices (max_depth = k), and Le/(1 − a) unbounded.
     let (albedo, le) = (0.5f32, 1.0f32);
     let mut b = SceneBuilder::new(camera(Vec3::new(0.1, 0.2, 0.3), Vec3::new(0.0, 0.0, -1.0), 90.0, 16, 16));
-    b.shape(Shape { geometry: Geometry::Mesh(inward_cube()), brdf: lambert(albedo), emission: Some(Rgb::splat(le)) });
+    b.shape(Shape {
+        geometry: Geometry::Mesh(inward_cube()),
+        material: lambert(albedo).into(),
+        emission: Some(Texture::Constant(Rgb::splat(le))),
+    });
     let scene = b.build().unwrap();
     let cases = [
-        (Integrator::Path { max_depth: 1, rr_depth: 5 }, 1.0),
-        (Integrator::Direct, 1.5),
-        (Integrator::Path { max_depth: 3, rr_depth: 1000 }, 1.75),
-        (Integrator::Path { max_depth: 3, rr_depth: 1 }, 1.75),
-        (Integrator::Path { max_depth: u32::MAX, rr_depth: 5 }, 2.0),
+        (Integrator::path(1, 5), 1.0),
+        (Integrator::DIRECT, 1.5),
+        (Integrator::path(3, 1000), 1.75),
+        (Integrator::path(3, 1), 1.75),
+        (Integrator::path(u32::MAX, 5), 2.0),
     ];
     for (integrator, expected) in cases {
         let img = render(&scene, &opts(32, 7, integrator), |_| {});
@@ -140,7 +145,7 @@ fn check_plane_against(
     radiance: impl Fn(glam::DVec3) -> f64,
 ) {
     let at = |f: Vec2| -> f64 {
-        let ray = cam.ray(f);
+        let ray = cam.ray(f, Vec2::splat(0.5));
         let (o, d) = (ray.o.as_dvec3(), ray.d.as_dvec3());
         radiance(o - d * (o.z / d.z))
     };
@@ -166,7 +171,7 @@ fn check_plane_against(
             (q8, pixel_mean(x, y, 4).0, lo, hi)
         })
         .collect();
-    for integrator in [Integrator::Path { max_depth: 8, rr_depth: 5 }, Integrator::Direct] {
+    for integrator in [Integrator::path(8, 5), Integrator::DIRECT] {
         let a = render(scene, &opts(spp, 3, integrator), |_| {});
         let b = render(scene, &opts(spp, 4, integrator), |_| {});
         let (mut worst, mut sum_q) = (0.0f64, 0.0f64);
@@ -244,9 +249,9 @@ fn lambert_plane_under_a_sphere_light_matches_the_closed_form() {
     let cam = camera(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 30.0, 24, 24);
     let mut b = plane_scene(&cam, albedo);
     b.shape(Shape {
-        geometry: Geometry::Sphere(Sphere { center, radius: radius as f32 }),
-        brdf: lambert(0.0),
-        emission: Some(Rgb::splat(le as f32)),
+        geometry: Geometry::Sphere(Sphere::new(center, radius as f32)),
+        material: lambert(0.0).into(),
+        emission: Some(Texture::Constant(Rgb::splat(le as f32))),
     });
     check_plane_against(&b.build().unwrap(), &cam, 64, false, "sphere light", |p| {
         let to_c = center.as_dvec3() - p;
@@ -282,7 +287,7 @@ fn spot_map() -> Image {
 
 fn env_scene(importance: bool) -> Scene {
     let mut b = SceneBuilder::new(camera(Vec3::new(0.0, 0.5, 3.0), Vec3::ZERO, 45.0, 32, 32));
-    b.shape(Shape::new(Geometry::Sphere(Sphere { center: Vec3::ZERO, radius: 1.0 }), lambert(0.8)));
+    b.shape(Shape::new(Geometry::Sphere(Sphere::new(Vec3::ZERO, 1.0)), lambert(0.8)));
     let mut env = EnvMap::new(&spot_map(), 1.0).unwrap();
     env.importance = importance;
     b.light(Light::EnvMap(Box::new(env)));
@@ -295,11 +300,11 @@ fn environment_importance_sampling_agrees_with_uniform_sampling() {
     // see a bias of under 2 % (4σ).
     let is = env_scene(true);
     let uni = env_scene(false);
-    let a1 = render(&is, &opts(256, 11, Integrator::Direct), |_| {});
-    let a2 = render(&is, &opts(128, 12, Integrator::Direct), |_| {});
-    let b1 = render(&uni, &opts(4096, 13, Integrator::Direct), |_| {});
-    let b2 = render(&uni, &opts(128, 14, Integrator::Direct), |_| {});
-    let b3 = render(&uni, &opts(128, 15, Integrator::Direct), |_| {});
+    let a1 = render(&is, &opts(256, 11, Integrator::DIRECT), |_| {});
+    let a2 = render(&is, &opts(128, 12, Integrator::DIRECT), |_| {});
+    let b1 = render(&uni, &opts(4096, 13, Integrator::DIRECT), |_| {});
+    let b2 = render(&uni, &opts(128, 14, Integrator::DIRECT), |_| {});
+    let b3 = render(&uni, &opts(128, 15, Integrator::DIRECT), |_| {});
     for c in 0..3 {
         // Same expectation: the per-pixel differences have mean 0. Test the whole image and
         // each 8×8 block (16 blocks: |z| < 4.5 keeps the family-wise false alarm < 1e-4).
@@ -327,7 +332,7 @@ fn environment_importance_sampling_agrees_with_uniform_sampling() {
 #[test]
 fn same_seed_same_image_whatever_the_thread_count() {
     let scene = env_scene(true);
-    let integrator = Integrator::Path { max_depth: 8, rr_depth: 2 };
+    let integrator = Integrator::path(8, 2);
     let one = render(&scene, &RenderOptions { threads: 1, ..opts(4, 5, integrator) }, |_| {});
     for threads in [2, 3] {
         let many = render(&scene, &RenderOptions { threads, ..opts(4, 5, integrator) }, |_| {});
@@ -373,7 +378,7 @@ fn bvh_hits_equal_brute_force() {
     b.shape(Shape::new(Geometry::Mesh(TriangleMesh::new(pos, None, idx).unwrap()), lambert(0.5)));
     for _ in 0..20 {
         let center = Vec3::new(rnd(-5.0, 5.0), rnd(-5.0, 5.0), rnd(-5.0, 5.0));
-        b.shape(Shape::new(Geometry::Sphere(Sphere { center, radius: rnd(0.1, 0.6) }), lambert(0.5)));
+        b.shape(Shape::new(Geometry::Sphere(Sphere::new(center, rnd(0.1, 0.6))), lambert(0.5)));
         let m = glam::Mat4::from_scale_rotation_translation(
             Vec3::new(rnd(0.2, 1.0), rnd(0.2, 1.0), 1.0),
             glam::Quat::from_euler(glam::EulerRot::XYZ, rnd(0.0, 6.0), rnd(0.0, 6.0), rnd(0.0, 6.0)),

@@ -15,7 +15,7 @@ use std::sync::Arc;
 const N: u32 = 16;
 
 fn opts(spp: u32, seed: u64, threads: usize) -> RenderOptions {
-    RenderOptions { spp, seed, threads, integrator: Integrator::Direct, cancel: None }
+    RenderOptions { spp, seed, threads, integrator: Integrator::DIRECT, cancel: None }
 }
 
 /// A diffuse sphere whose silhouette crosses the image, under a sky with a bright spot: sharp
@@ -25,7 +25,7 @@ fn scene() -> Scene {
     cam.filter = Filter::gaussian(0.5).unwrap();
     let mut b = SceneBuilder::new(cam);
     let white: Arc<dyn brdf::Brdf> = brdf::build("lambert", &[("albedo", "0.8")]).unwrap().into();
-    b.shape(Shape::new(Geometry::Sphere(Sphere { center: Vec3::ZERO, radius: 1.0 }), white));
+    b.shape(Shape::new(Geometry::Sphere(Sphere::new(Vec3::ZERO, 1.0)), white));
     let mut sky = Image::new(64, 32);
     for (k, p) in sky.pixels.iter_mut().enumerate() {
         let (i, j) = (k % 64, k / 64);
@@ -39,7 +39,7 @@ fn scene() -> Scene {
     b.build().unwrap()
 }
 
-/// The filter-importance-sampled image (`Camera::film_sample`), green channel.
+/// The filter-importance-sampled image (the Gaussian's `sample`), green channel.
 fn importance_sampled(scene: &Scene, spp: u32, seed: u64) -> Vec<f64> {
     let mut out = Vec::with_capacity((N * N) as usize);
     for y in 0..N {
@@ -48,8 +48,11 @@ fn importance_sampled(scene: &Scene, spp: u32, seed: u64) -> Vec<f64> {
             let mut sum = 0.0f64;
             for s in 0..spp {
                 let mut sampler = key.sampler(s as u64);
-                let (film, w) = scene.camera.film_sample(Vec2::new(x as f32, y as f32), sampler.next_2d());
-                sum += (Integrator::Direct.li(scene, scene.camera.ray(film), &mut sampler).0[1] * w) as f64;
+                let Filter::Gaussian(g) = &scene.camera.filter else { unreachable!("a Gaussian camera") };
+                let (offset, w) = g.sample(sampler.next_2d());
+                let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+                let ray = scene.camera.ray(film, Vec2::splat(0.5));
+                sum += (Integrator::DIRECT.li(scene, ray, &mut sampler).0[1] * w) as f64;
             }
             out.push(sum / spp as f64);
         }
@@ -119,15 +122,11 @@ fn a_cancelled_gaussian_render_is_still_a_whole_image() {
     cam.filter = Filter::gaussian(0.5).unwrap();
     let mut b = SceneBuilder::new(cam);
     let white: Arc<dyn brdf::Brdf> = brdf::build("lambert", &[("albedo", "1")]).unwrap().into();
-    b.shape(Shape::new(Geometry::Sphere(Sphere { center: Vec3::ZERO, radius: 1.0 }), white));
+    b.shape(Shape::new(Geometry::Sphere(Sphere::new(Vec3::ZERO, 1.0)), white));
     b.light(Light::Constant(ConstantEnv { radiance: Rgb::ONE }));
     let scene = b.build().unwrap();
     let cancel = Arc::new(AtomicBool::new(false));
-    let o = RenderOptions {
-        cancel: Some(cancel.clone()),
-        integrator: Integrator::Path { max_depth: 1000, rr_depth: 5 },
-        ..opts(64, 1, 2)
-    };
+    let o = RenderOptions { cancel: Some(cancel.clone()), integrator: Integrator::path(1000, 5), ..opts(64, 1, 2) };
     let img = render(&scene, &o, |p| {
         if p.done >= (N * N) as u64 {
             cancel.store(true, Ordering::Relaxed);

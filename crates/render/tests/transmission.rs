@@ -24,7 +24,7 @@ fn model(name: &str, params: &[(&str, &str)]) -> Arc<dyn brdf::Brdf> {
 fn furnace(w: u32, m: Arc<dyn brdf::Brdf>) -> Scene {
     let cam = Camera::new(look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y).unwrap(), 40.0, FovAxis::X, w, w);
     let mut b = SceneBuilder::new(cam);
-    b.shape(Shape::new(Geometry::Sphere(Sphere { center: Vec3::ZERO, radius: 1.0 }), m));
+    b.shape(Shape::new(Geometry::Sphere(Sphere::new(Vec3::ZERO, 1.0)), m));
     b.light(Light::Constant(ConstantEnv { radiance: Rgb::ONE }));
     b.build().unwrap()
 }
@@ -44,18 +44,18 @@ fn glass_sphere_furnace_is_one_at_every_pixel() {
     // weights (1 for a reflection, 1/η² in, η² out) multiply to 1. Without roulette every
     // sample is exactly 1 (a path still inside after 1000 vertices has probability < F^998).
     let glass = furnace(24, model("dielectric", &[("int_ior", "1.5"), ("ext_ior", "1")]));
-    let img = render(&glass, &opts(8, 1, Integrator::Path { max_depth: 1000, rr_depth: 1000 }), |_| {});
+    let img = render(&glass, &opts(8, 1, Integrator::path(1000, 1000)), |_| {});
     let worst =
         img.pixels.iter().map(|p| (p.max_channel() - 1.0).abs().max((p.min_channel() - 1.0).abs())).fold(0.0, f32::max);
     assert!(worst < 1e-4, "glass furnace without roulette: a pixel is off by {worst}");
     // With Mitsuba's roulette (q = min(β η², 0.95) = 0.95 here) samples are 0 or 0.95^−k:
     // unbiased, so the mean is 1 within its standard error.
-    let img = render(&glass, &opts(16, 2, Integrator::Path { max_depth: u32::MAX, rr_depth: 5 }), |_| {});
+    let img = render(&glass, &opts(16, 2, Integrator::path(u32::MAX, 5)), |_| {});
     let (mean, se) = mean_and_error(&img);
     assert!((mean - 1.0).abs() < 4.0 * se + 1e-5, "glass furnace with roulette: mean {mean} ± {se}");
     // The other way round: an air bubble in water (η < 1, total internal reflection outside).
     let bubble = furnace(16, model("dielectric", &[("int_ior", "1"), ("ext_ior", "1.333")]));
-    let img = render(&bubble, &opts(8, 3, Integrator::Path { max_depth: 1000, rr_depth: 1000 }), |_| {});
+    let img = render(&bubble, &opts(8, 3, Integrator::path(1000, 1000)), |_| {});
     let worst = img.pixels.iter().map(|p| (p.0[1] - 1.0).abs()).fold(0.0, f32::max);
     assert!(worst < 1e-4, "bubble furnace: a pixel is off by {worst}");
 }
@@ -68,7 +68,7 @@ fn rough_glass_furnace_matches_mitsuba() {
     // 0.908982 and 0.908981: its error is far below ours.
     const MITSUBA_MEAN: f64 = 0.908_982;
     let rough = furnace(16, model("roughdielectric", &[("alpha", "0.5"), ("int_ior", "1.5"), ("ext_ior", "1")]));
-    let img = render(&rough, &opts(256, 4, Integrator::Path { max_depth: 1000, rr_depth: 5 }), |_| {});
+    let img = render(&rough, &opts(256, 4, Integrator::path(1000, 5)), |_| {});
     let (mean, se) = mean_and_error(&img);
     eprintln!("rough glass furnace: mean {mean:.5} ± {se:.1e}, Mitsuba {MITSUBA_MEAN}");
     // The pixels are independent; their spread includes the sphere's real variation across the
@@ -85,7 +85,7 @@ fn plane_view(m: Arc<dyn brdf::Brdf>, eye: Vec3, dir: Vec3) -> Image {
     let rect = Rectangle::new(&glam::Mat4::from_scale(Vec3::splat(10.0))).unwrap();
     b.shape(Shape::new(Geometry::Rectangle(rect), m));
     b.light(Light::Directional(DirectionalLight { direction: dir.normalize(), irradiance: Rgb::ONE }));
-    render(&b.build().unwrap(), &opts(4, 5, Integrator::Path { max_depth: 2, rr_depth: 5 }), |_| {})
+    render(&b.build().unwrap(), &opts(4, 5, Integrator::path(2, 5)), |_| {})
 }
 
 #[test]
@@ -193,9 +193,10 @@ fn xml_transmissive_types_load_and_bad_values_say_where() {
     )
     .unwrap();
     let sh = s.scene.shapes();
-    assert!(sh[0].brdf.transmits() && (sh[0].brdf.eta() - 2.419 / 1.000277).abs() < 1e-5);
-    assert!(sh[1].brdf.transmits() && (sh[1].brdf.eta() - 1.5046 / 1.333).abs() < 1e-5);
-    assert!(sh[2].brdf.back_side() && !sh[2].brdf.transmits());
+    let m = |i: usize| sh[i].material.fixed().unwrap();
+    assert!(m(0).transmits() && (m(0).eta() - 2.419 / 1.000277).abs() < 1e-5);
+    assert!(m(1).transmits() && (m(1).eta() - 1.5046 / 1.333).abs() < 1e-5);
+    assert!(matches!(sh[2].material, render::material::Material::TwoSided(..)));
 
     // Each error names file:line:col, the property, and what is accepted.
     let e = load_err(&xml(

@@ -113,7 +113,12 @@ impl FitModel {
         let p = p.clamp(lo, hi) as f32;
         let microfacet = |name: &str| -> Box<dyn Brdf> {
             let distribution = Distribution::named(name, p, p).expect("known distribution");
-            Box::new(MicrofacetBrdf { distribution, shadowing: Shadowing::Correlated, fresnel: Fresnel::None })
+            Box::new(MicrofacetBrdf {
+                distribution,
+                shadowing: Shadowing::Correlated,
+                fresnel: Fresnel::None,
+                tint: Rgb::ONE,
+            })
         };
         match self {
             FitModel::Ward => Box::new(Ward { ks: Rgb::ONE, alpha_x: p, alpha_y: p }),

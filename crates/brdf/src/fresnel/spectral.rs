@@ -4,54 +4,11 @@
 //! `shared/bench/scenes/materials.json` (taken from Mitsuba 3.9.1) and, by the same
 //! reduction, the Ag values `fresnel.rs` ships.
 //!
-//! The reduction: with the spectrum s(λ) linearly interpolated between its samples and the
-//! CIE 1931 2° colour-matching functions x̄, ȳ, z̄ (5 nm table, linearly interpolated,
-//! scaled so that ∫ȳ = 1 over the table's own interpolant), XYZ is the Riemann sum
-//! Σ s(λ_j) (x̄, ȳ, z̄)(λ_j) Δ over 1000 equally spaced λ_j in [360, 830] nm with
-//! Δ = 470/1000 nm, and RGB = M · XYZ with the Rec.709 / sRGB (D65) matrix M. The sum
-//! rule, the table and the matrix are what decide the last digits; the data are the
-//! luxpop.com optical constants Mitsuba ships in `data/ior/<name>.{eta,k}.spd`.
+//! The reduction is `radiometry::cie::spectrum_to_srgb` without the illuminant weight (Mitsuba's
+//! rule for a named conductor's tables); the data are the luxpop.com optical constants Mitsuba
+//! ships in `data/ior/<name>.{eta,k}.spd`.
 
-/// CIE 1931 2° colour-matching functions, 360..=830 nm every 5 nm (CIE 15:2004 table).
-#[rustfmt::skip]
-const CIE_X: [f64; 95] = [
-    0.0001299, 0.0002321, 0.0004149, 0.0007416, 0.001368, 0.002236, 0.004243, 0.00765, 0.01431, 0.02319, 0.04351,
-    0.07763, 0.13438, 0.21477, 0.2839, 0.3285, 0.34828, 0.34806, 0.3362, 0.3187, 0.2908, 0.2511, 0.19536, 0.1421,
-    0.09564, 0.05795001, 0.03201, 0.0147, 0.0049, 0.0024, 0.0093, 0.0291, 0.06327, 0.1096, 0.1655, 0.2257499,
-    0.2904, 0.3597, 0.4334499, 0.5120501, 0.5945, 0.6784, 0.7621, 0.8425, 0.9163, 0.9786, 1.0263, 1.0567, 1.0622,
-    1.0456, 1.0026, 0.9384, 0.8544499, 0.7514, 0.6424, 0.5419, 0.4479, 0.3608, 0.2835, 0.2187, 0.1649, 0.1212,
-    0.0874, 0.0636, 0.04677, 0.0329, 0.0227, 0.01584, 0.01135916, 0.008110916, 0.005790346, 0.004109457,
-    0.002899327, 0.00204919, 0.001439971, 0.0009999493, 0.0006900786, 0.0004760213, 0.0003323011, 0.0002348261,
-    0.0001661505, 0.000117413, 0.00008307527, 0.00005870652, 0.00004150994, 0.00002935326, 0.00002067383,
-    0.00001455977, 0.00001025398, 0.000007221456, 0.000005085868, 0.000003581652, 0.000002522525, 0.000001776509,
-    0.000001251141,
-];
-#[rustfmt::skip]
-const CIE_Y: [f64; 95] = [
-    0.000003917, 0.000006965, 0.00001239, 0.00002202, 0.000039, 0.000064, 0.00012, 0.000217, 0.000396, 0.00064,
-    0.00121, 0.00218, 0.004, 0.0073, 0.0116, 0.01684, 0.023, 0.0298, 0.038, 0.048, 0.06, 0.0739, 0.09098, 0.1126,
-    0.13902, 0.1693, 0.20802, 0.2586, 0.323, 0.4073, 0.503, 0.6082, 0.71, 0.7932, 0.862, 0.9148501, 0.954, 0.9803,
-    0.9949501, 1.0, 0.995, 0.9786, 0.952, 0.9154, 0.87, 0.8163, 0.757, 0.6949, 0.631, 0.5668, 0.503, 0.4412, 0.381,
-    0.321, 0.265, 0.217, 0.175, 0.1382, 0.107, 0.0816, 0.061, 0.04458, 0.032, 0.0232, 0.017, 0.01192, 0.00821,
-    0.005723, 0.004102, 0.002929, 0.002091, 0.001484, 0.001047, 0.00074, 0.00052, 0.0003611, 0.0002492, 0.0001719,
-    0.00012, 0.0000848, 0.00006, 0.0000424, 0.00003, 0.0000212, 0.00001499, 0.0000106, 0.0000074657, 0.0000052578,
-    0.0000037029, 0.0000026078, 0.0000018366, 0.0000012934, 0.00000091093, 0.00000064153, 0.00000045181,
-];
-#[rustfmt::skip]
-const CIE_Z: [f64; 95] = [
-    0.0006061, 0.001086, 0.001946, 0.003486, 0.006450001, 0.01054999, 0.02005001, 0.03621, 0.06785001, 0.1102,
-    0.2074, 0.3713, 0.6456, 1.0390501, 1.3856, 1.62296, 1.74706, 1.7826, 1.77211, 1.7441, 1.6692, 1.5281, 1.28764,
-    1.0419, 0.8129501, 0.6162, 0.46518, 0.3533, 0.272, 0.2123, 0.1582, 0.1117, 0.07824999, 0.05725001, 0.04216,
-    0.02984, 0.0203, 0.0134, 0.008749999, 0.005749999, 0.0039, 0.002749999, 0.0021, 0.0018, 0.001650001, 0.0014,
-    0.0011, 0.001, 0.0008, 0.0006, 0.00034, 0.00024, 0.00019, 0.0001, 0.00004999999, 0.00003, 0.00002, 0.00001, 0.0,
-    0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-    0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-];
-
-/// XYZ → linear sRGB (Rec.709 primaries, D65 white).
-#[rustfmt::skip]
-const XYZ_TO_SRGB: [[f64; 3]; 3] =
-    [[3.240479, -1.537150, -0.498535], [-0.969256, 1.875991, 0.041556], [0.055648, -0.204043, 1.057311]];
+use radiometry::cie;
 
 /// Wavelengths (nm) shared by every luxpop table below, except Cu which starts one sample later.
 #[rustfmt::skip]
@@ -126,48 +83,10 @@ const CU_K: [f64; 55] = [
     5.717,
 ];
 
-/// Linear interpolation in a sorted table; `None` outside it.
-fn interp(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
-    if x < xs[0] || x > xs[xs.len() - 1] {
-        return None;
-    }
-    let i = xs.partition_point(|&v| v <= x).clamp(1, xs.len() - 1) - 1;
-    let t = (x - xs[i]) / (xs[i + 1] - xs[i]);
-    Some(ys[i] + t * (ys[i + 1] - ys[i]))
-}
-
-/// The CIE table at `lambda` nm, linearly interpolated (zero outside 360..830).
-fn cie_xyz(lambda: f64) -> [f64; 3] {
-    if !(360.0..=830.0).contains(&lambda) {
-        return [0.0; 3];
-    }
-    let t = (lambda - 360.0) / 5.0;
-    let i = (t as usize).min(93);
-    let f = t - i as f64;
-    let lerp = |tab: &[f64; 95]| tab[i] + f * (tab[i + 1] - tab[i]);
-    [lerp(&CIE_X), lerp(&CIE_Y), lerp(&CIE_Z)]
-}
-
-/// The spectrum reduced to linear sRGB by the Riemann sum described at the top of this file.
+/// The spectrum reduced to linear sRGB: Mitsuba reduces a named conductor's tables without the
+/// illuminant weight, as it does an emission spectrum.
 fn spectrum_to_rgb(lambda: &[f64], values: &[f64]) -> [f64; 3] {
-    const STEPS: usize = 1000;
-    let (lo, hi) = (360.0, 830.0);
-    let mut xyz = [0.0f64; 3];
-    let mut y_norm = 0.0f64;
-    for j in 0..STEPS {
-        let x = lo + (j as f64 / (STEPS - 1) as f64) * (hi - lo);
-        let cmf = cie_xyz(x);
-        // ∫ȳ by the same rule, so that a unit spectrum has luminance 1.
-        y_norm += cmf[1];
-        if let Some(s) = interp(lambda, values, x) {
-            for c in 0..3 {
-                xyz[c] += cmf[c] * s;
-            }
-        }
-    }
-    let xyz = xyz.map(|v| v / y_norm);
-    let m = XYZ_TO_SRGB;
-    [0, 1, 2].map(|r| m[r][0] * xyz[0] + m[r][1] * xyz[1] + m[r][2] * xyz[2])
+    cie::spectrum_to_srgb(lambda, values, cie::SpectrumUse::Emission)
 }
 
 /// (η, k) in RGB for one material's spectral tables.

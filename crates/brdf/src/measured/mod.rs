@@ -26,8 +26,8 @@ pub use sampling::TableSampler;
 pub use tabulated::Tabulated;
 
 use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims};
-use crate::params::{ParamError, ParamSpec, Params};
-use crate::registry::ModelSpec;
+use crate::params::{ParamError, ParamSource, ParamSpec};
+use crate::registry::{Build, ModelSpec};
 use radiometry::{Rgb, Vec2, Vec3};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -172,7 +172,7 @@ fn params() -> Vec<ParamSpec> {
     ]
 }
 
-fn build(p: &Params) -> Result<Box<dyn Brdf>, ParamError> {
+fn build(p: &dyn ParamSource) -> Result<Box<dyn Brdf>, ParamError> {
     let file = p.path("filename");
     if file.is_empty() {
         return Err(ParamError::Inconsistent(
@@ -192,6 +192,14 @@ pub const SPEC: ModelSpec = ModelSpec {
     summary: "measured BRDF from a MERL .binary file, interpolated",
     reference: "Matusik et al. 2003, A Data-Driven Reflectance Model",
     params,
-    build,
+    // Read from its file once: no parameter varies over a surface, so the scoped build (which
+    // boxes) is never used per hit.
+    build: Build {
+        owned: build,
+        scoped: |p, f| {
+            f(&*build(p)?);
+            Ok(())
+        },
+    },
     showcase: &[],
 };

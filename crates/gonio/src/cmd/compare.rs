@@ -70,7 +70,7 @@ pub fn run(a: &CompareArgs) -> Result<()> {
     let mesh = match &a.mesh {
         Some(p) => {
             inputs.push(p.clone());
-            Some(render::io::load_mesh(p, false).with_context(|| format!("reading the mesh '{}'", p.display()))?)
+            Some(render::io::load_mesh(p).with_context(|| format!("reading the mesh '{}'", p.display()))?)
         }
         None => None,
     };
@@ -81,8 +81,8 @@ pub fn run(a: &CompareArgs) -> Result<()> {
     for (k, spec) in a.models.iter().enumerate() {
         let (name, params) = parse_model(spec)?;
         let given: Vec<(&str, &str)> = params.iter().map(|(k, v)| (k.as_str(), v.as_str())).collect();
-        let brdf = render::demo::build_model(&name, &given).with_context(|| format!("model '{spec}'"))?;
-        let scene = render::demo::object_scene(brdf, mesh.as_ref(), env.as_ref(), a.size, a.size)?;
+        let brdf = crate::demo_scene::build_model(&name, &given).with_context(|| format!("model '{spec}'"))?;
+        let scene = crate::demo_scene::object_scene(brdf, mesh.as_ref(), env.as_ref(), a.size, a.size)?;
         let (panel, stop) = render_with_progress(&scene, &opts, &name);
         for y in 0..a.size {
             for x in 0..a.size {

@@ -13,6 +13,7 @@ fn kind_name(p: &ParamSpec) -> &'static str {
         ParamKind::Choice(_) => "choice",
         ParamKind::Bool => "bool",
         ParamKind::Path => "path",
+        ParamKind::Model => "model",
     }
 }
 
@@ -30,7 +31,7 @@ fn param_json(p: &ParamSpec) -> serde_json::Value {
             o["max"] = serde_json::json!(max);
         }
         ParamKind::Choice(opts) => o["options"] = serde_json::json!(opts),
-        ParamKind::Bool | ParamKind::Path => {}
+        ParamKind::Bool | ParamKind::Path | ParamKind::Model => {}
     }
     o
 }

@@ -120,8 +120,9 @@ pub fn run(a: &RenderArgs) -> Result<()> {
                 bail!("--width and --height must be in 1..=16384");
             }
             let phong = a.integrator == Some(IntegratorArg::Phong);
-            let scene = render::demo::demo_scene_lit(a.width, a.height, phong).context("building the demo scene")?;
-            (scene, render::demo::demo_integrator(), Vec::new(), 32, 0)
+            let scene =
+                crate::demo_scene::demo_scene_lit(a.width, a.height, phong).context("building the demo scene")?;
+            (scene, crate::demo_scene::demo_integrator(), Vec::new(), 32, 0)
         }
         Some(path) => {
             let defines = a
@@ -137,7 +138,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     let integrator = match a.integrator {
         None => integrator,
         Some(IntegratorArg::Path) => Integrator::default(),
-        Some(IntegratorArg::Direct) => Integrator::Direct,
+        Some(IntegratorArg::Direct) => Integrator::DIRECT,
         Some(IntegratorArg::Phong) => Integrator::Phong { shadows: true },
     };
     let spp = a.spp.unwrap_or(spp);

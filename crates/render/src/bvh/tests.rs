@@ -14,7 +14,7 @@ fn builder() -> SceneBuilder {
 }
 
 fn add(b: &mut SceneBuilder, g: Geometry) {
-    b.shape(Shape::new(g, brdf::build("lambert", &[]).unwrap().into()));
+    b.shape(Shape::new(g, brdf::build("lambert", &[]).unwrap()));
 }
 
 /// Uniform numbers in [lo, hi) from a fixed stream.
@@ -127,7 +127,7 @@ fn flat_grids_and_mixed_shapes_match_brute_force() {
     add(&mut b, Geometry::Mesh(soup(&mut r, 500, 0.5)));
     add(&mut b, Geometry::Mesh(grid(4)));
     for _ in 0..30 {
-        add(&mut b, Geometry::Sphere(Sphere { center: r.v(5.0), radius: r.f(0.1, 0.8) }));
+        add(&mut b, Geometry::Sphere(Sphere::new(r.v(5.0), r.f(0.1, 0.8))));
         let m = transform(&mut r);
         add(&mut b, Geometry::Rectangle(Rectangle::new(&m).unwrap()));
         let m = transform(&mut r);
@@ -150,7 +150,7 @@ fn empty_and_single_primitive_scenes() {
     assert!(scene.occluded(&Ray::new(Vec3::new(0.0, 0.5, -3.0), Vec3::Z)));
     assert!(!scene.occluded(&Ray { t_max: 2.9, ..Ray::new(Vec3::new(0.0, 0.5, -3.0), Vec3::Z) }));
     let mut b = builder();
-    add(&mut b, Geometry::Sphere(Sphere { center: Vec3::ZERO, radius: 20.0 }));
+    add(&mut b, Geometry::Sphere(Sphere::new(Vec3::ZERO, 20.0)));
     let scene = b.build().unwrap();
     // Origins lie within 6√3 < 10.4 of the centre: every ray reaches the sphere, except the
     // quarter whose t_max < 8 stops short of it.

@@ -20,10 +20,17 @@ pub enum Integrator {
         max_depth: u32,
         /// The depth from which Russian roulette may end paths.
         rr_depth: u32,
+        /// The camera sees through area lights and does not see the environment.
+        hide_emitters: bool,
     },
-    /// Direct lighting only: emitters seen directly plus one light and one BRDF sample
-    /// combined by MIS at the first surface (Mitsuba's `direct` with one sample each).
-    Direct,
+    /// Direct lighting only: emitters seen directly plus light and BRDF samples combined by
+    /// MIS at the first surface (Mitsuba's `direct`).
+    Direct {
+        /// Light and BRDF samples per camera sample.
+        samples: direct::DirectSamples,
+        /// The camera sees through area lights and does not see the environment.
+        hide_emitters: bool,
+    },
     /// The lecture's Phong illumination model, L = k_a L_a + Σ_l L_l [k_d (I·N) + k_s (R·V)^k_e],
     /// with point lights only and L_a the constant environment's radiance (see [`phong`]).
     Phong {
@@ -35,17 +42,28 @@ pub enum Integrator {
 impl Default for Integrator {
     /// Mitsuba's defaults for `path`: unbounded depth, roulette from depth 5.
     fn default() -> Self {
-        Integrator::Path { max_depth: u32::MAX, rr_depth: 5 }
+        Integrator::path(u32::MAX, 5)
     }
 }
 
 impl Integrator {
+    /// Mitsuba's `path` with `max_depth` and `rr_depth`, emitters shown.
+    pub const fn path(max_depth: u32, rr_depth: u32) -> Integrator {
+        Integrator::Path { max_depth, rr_depth, hide_emitters: false }
+    }
+
+    /// Mitsuba's `direct` with its defaults: one light and one BRDF sample.
+    pub const DIRECT: Integrator =
+        Integrator::Direct { samples: direct::DirectSamples { emitter: 1, bsdf: 1 }, hide_emitters: false };
+
     /// The radiance estimate along `ray`.
     #[inline]
     pub fn li(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Rgb {
         match *self {
-            Integrator::Path { max_depth, rr_depth } => path::li(scene, ray, sampler, max_depth, rr_depth),
-            Integrator::Direct => direct::li(scene, ray, sampler),
+            Integrator::Path { max_depth, rr_depth, hide_emitters } => {
+                path::li(scene, ray, sampler, max_depth, rr_depth, hide_emitters)
+            }
+            Integrator::Direct { samples, hide_emitters } => direct::li(scene, ray, sampler, samples, hide_emitters),
             Integrator::Phong { shadows } => phong::li(scene, ray, shadows),
         }
     }

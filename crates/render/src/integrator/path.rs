@@ -5,21 +5,27 @@
 //! found by the BRDF sample gets its weight at the next vertex. Delta lights and delta
 //! lobes take weight 1, since no other strategy can produce them.
 //!
-//! Sides. A one-sided model (most BRDFs) ends the path on its back face, as in Mitsuba. A model
-//! with a back side (`twosided`) is handed the local directions as they are (wo.z < 0 on the
-//! back) and mirrors them itself; one that transmits (`dielectric`, `roughdielectric`) may
-//! send the path through the surface, where the continuation ray starts on the far side, and
-//! its light samples are drawn over the whole sphere (no normal in the reference point).
-//! Shading and geometric normals must agree on the side of every direction, else the
-//! contribution is dropped (light would leak through the surface). Russian roulette judges
-//! β η², η the product of the index ratios crossed, so that radiance brightened by entering
-//! glass does not make a path look more valuable than its power (Mitsuba 3's `path`).
+//! Depth. `max_depth` counts path vertices, the camera's included: 1 shows only the emitters
+//! the camera sees, 2 is direct lighting. Every surface event uses one, a pass through a mask
+//! or a null surface included (as in Mitsuba). Russian roulette starts once `rr_depth`
+//! vertices exist and judges β η², η the product of the index ratios crossed, so that radiance
+//! brightened by entering glass does not make a path look more valuable than its power.
+//!
+//! Sides are the shading frame's, as in Mitsuba: a one-sided model (most BRDFs) ends the path
+//! on its back face; a model with a back side (`twosided`) is handed the local directions as
+//! they are (wo.z < 0 on the back) and mirrors them itself; one that transmits (`dielectric`,
+//! `mask`) may send the path through the surface, and its light samples are drawn over the
+//! whole sphere. Rays leave a surface offset along its geometric normal.
+//!
+//! `hide_emitters`: the camera ray passes through area lights to what is behind them, and the
+//! environment is not seen by paths that have only passed straight through surfaces (Mitsuba
+//! 3's rule; emitters seen in mirrors or through glass stay, and they light the scene).
 
 use crate::integrator::power_heuristic;
 use crate::light::RefPoint;
 use crate::ray::{spawn_ray, Ray};
 use crate::sampler::Sampler;
-use crate::scene::Scene;
+use crate::scene::{Scene, SurfaceInteraction};
 use radiometry::Rgb;
 
 /// What the previous vertex's BRDF sample needs for the MIS weight of emission found next.
@@ -29,9 +35,30 @@ struct Previous {
     delta: bool,
 }
 
+/// The path's next step, decided at one vertex with the model there.
+enum Step {
+    /// Continue along this ray with this throughput factor.
+    Continue { ray: Ray, weight: Rgb, eta: f32, prev: Previous, pass_through: bool },
+    /// The path ends here.
+    Stop,
+}
+
+/// The first surface the camera ray meets; with `hide` it passes through area lights.
+pub fn first_hit(scene: &Scene, mut ray: Ray, hide: bool) -> Option<SurfaceInteraction> {
+    loop {
+        let si = scene.intersect(&ray)?;
+        if !hide || scene.area_light(si.shape).is_none() {
+            return Some(si);
+        }
+        let t_max = ray.t_max - si.t;
+        ray = spawn_ray(si.p, si.ng, ray.d);
+        ray.t_max = t_max;
+    }
+}
+
 /// The radiance estimate along `ray` with paths of at most `max_depth` vertices and
 /// Russian roulette from `rr_depth` on.
-pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler, max_depth: u32, rr_depth: u32) -> Rgb {
+pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler, max_depth: u32, rr_depth: u32, hide_emitters: bool) -> Rgb {
     let mut result = Rgb::ZERO;
     let mut beta = Rgb::ONE;
     // Product of the index ratios crossed: β η² is the path's weight in power.
@@ -39,22 +66,28 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler, max_depth: u32, rr
     let mut depth = 0u32;
     // None for the camera ray: emission seen directly has weight 1.
     let mut prev: Option<Previous> = None;
+    // Whether the path has scattered off something (not only passed straight through).
+    let mut scattered = false;
     if max_depth == 0 {
         return result;
     }
+    let mut ray = ray;
+    let mut hit = first_hit(scene, ray, hide_emitters);
     loop {
-        let Some(si) = scene.intersect(&ray) else {
-            // The light pdf only where a BRDF sample needs its MIS weight.
-            let from = prev.as_ref().filter(|pv| !pv.delta);
-            if let Some((le, pdf)) = scene.environment_eval(ray.d, from.map(|pv| &pv.r)) {
-                let w = from.map_or(1.0, |pv| power_heuristic(pv.pdf, pdf));
-                result += beta * le * w;
+        let Some(si) = hit else {
+            if !hide_emitters || scattered {
+                // The light pdf only where a BRDF sample needs its MIS weight.
+                let from = prev.as_ref().filter(|pv| !pv.delta);
+                if let Some((le, pdf)) = scene.environment_eval(ray.d, from.map(|pv| &pv.r)) {
+                    let w = from.map_or(1.0, |pv| power_heuristic(pv.pdf, pdf));
+                    result += beta * le * w;
+                }
             }
             break;
         };
         let wo_world = -ray.d;
         if let Some((index, light)) = scene.area_light(si.shape) {
-            let le = light.emitted(si.ng, wo_world);
+            let le = light.emitted(si.frame.n, si.uv, wo_world);
             if !le.is_black() {
                 let w = match &prev {
                     Some(pv) if !pv.delta => {
@@ -68,43 +101,54 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler, max_depth: u32, rr
         if depth.saturating_add(1) >= max_depth {
             break;
         }
-        let brdf = scene.brdf(si.shape);
         let wo = si.frame.to_local(wo_world);
-        // A direction is on a side only if both normals agree; a one-sided model scatters
-        // nothing on its back.
-        let side = wo_world.dot(si.ng);
-        if wo.z * side <= 0.0 || wo.z.is_nan() || (wo.z < 0.0 && !brdf.back_side()) {
+        if !(wo.z != 0.0) {
             break;
         }
-        let transmits = brdf.transmits();
-        // Where `wi` may lie: on wo's side, or anywhere for a model that transmits.
-        let usable = |wi: f32, wi_ng: f32| wi * wi_ng > 0.0 && (transmits || wi * wo.z > 0.0);
-        let n = if transmits { None } else { Some(si.frame.n * wo.z.signum()) };
-        let r = RefPoint { p: si.p, n };
-
-        // Next-event estimation.
         let (uc, uc2, u) = (sampler.next_1d(), sampler.next_1d(), sampler.next_2d());
-        if let Some(ls) = scene.sample_light(&r, uc, uc2, u) {
-            let wi = si.frame.to_local(ls.wi);
-            if usable(wi.z, ls.wi.dot(si.ng)) {
-                let (f, brdf_pdf) = brdf.eval_pdf(wi, wo);
-                if !f.is_black() && scene.unoccluded(si.p, si.ng, &ls) {
-                    let w = if ls.delta { 1.0 } else { power_heuristic(ls.pdf, brdf_pdf) };
-                    result += beta * f * ls.li * (wi.z.abs() * w / ls.pdf);
+        let (bc, bu) = (sampler.next_1d(), sampler.next_2d());
+        let step = scene.material(si.shape).with(&si, |brdf| {
+            if wo.z < 0.0 && !brdf.back_side() {
+                return Step::Stop;
+            }
+            let transmits = brdf.transmits();
+            // Where `wi` may lie: on wo's side, or anywhere for a model that transmits.
+            let usable = |wi_z: f32| transmits || wi_z * wo.z > 0.0;
+            let n = if transmits { None } else { Some(si.frame.n * wo.z.signum()) };
+            let r = RefPoint { p: si.p, n };
+
+            // Next-event estimation.
+            if let Some(ls) = scene.sample_light(&r, uc, uc2, u) {
+                let wi = si.frame.to_local(ls.wi);
+                if usable(wi.z) {
+                    let (f, brdf_pdf) = brdf.eval_pdf(wi, wo);
+                    if !f.is_black() && scene.unoccluded(si.p, si.ng, &ls) {
+                        let w = if ls.delta { 1.0 } else { power_heuristic(ls.pdf, brdf_pdf) };
+                        result += beta * f * ls.li * (wi.z.abs() * w / ls.pdf);
+                    }
                 }
             }
-        }
 
-        // BRDF sampling: the direction the path continues in.
-        let Some(bs) = brdf.sample(wo, sampler.next_1d(), sampler.next_2d()) else { break };
-        let wi_world = si.frame.to_world(bs.wi);
-        if !usable(bs.wi.z, wi_world.dot(si.ng)) || !bs.weight.is_finite() {
-            break;
-        }
-        beta = beta * bs.weight;
-        eta *= bs.eta;
-        prev = Some(Previous { r, pdf: bs.pdf, delta: bs.delta });
-        ray = spawn_ray(si.p, si.ng, wi_world);
+            // BRDF sampling: the direction the path continues in.
+            let Some(bs) = brdf.sample(wo, bc, bu) else { return Step::Stop };
+            if !usable(bs.wi.z) || !bs.weight.is_finite() {
+                return Step::Stop;
+            }
+            let wi_world = si.frame.to_world(bs.wi);
+            Step::Continue {
+                ray: spawn_ray(si.p, si.ng, wi_world),
+                weight: bs.weight,
+                eta: bs.eta,
+                prev: Previous { r, pdf: bs.pdf, delta: bs.delta },
+                pass_through: bs.delta && bs.wi == -wo,
+            }
+        });
+        let Step::Continue { ray: next, weight, eta: step_eta, prev: p, pass_through } = step else { break };
+        scattered |= !pass_through;
+        beta = beta * weight;
+        eta *= step_eta;
+        prev = Some(p);
+        ray = next;
         depth += 1;
 
         // Russian roulette: survive with q = min(max channel of β η², 0.95), reweight by 1/q.
@@ -118,6 +162,7 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler, max_depth: u32, rr
         if beta.max_channel() <= 0.0 {
             break;
         }
+        hit = scene.intersect(&ray);
     }
     // A path can only go non-finite through a model bug; drop it rather than poison a pixel.
     if result.is_finite() {

@@ -10,11 +10,11 @@
 //! Only point lights contribute to the sum; area lights and environment maps are ignored, as
 //! the model knows of neither. Dot products are clamped at zero.
 //!
-//! Coefficients come from the shape's model parameters ([`PhongCoefficients::from_model`]):
-//! `lambert` a: k_d = a/π, k_a = a; `phong`/`blinn-phong` k_s, k_e and `diffuse` a as Lambert.
-//! k_a = a is the choice that makes the ambient term exact for an unshadowed Lambert surface
-//! under a constant environment (L = a L_a). For a shape with any other model, the term in
-//! brackets is the model's own ρ(I, V) (I·N) and k_a = π ρ(N, V), exact for Lambert again.
+//! Coefficients come from the shape's model (`Brdf::phong_terms`): `lambert` a: k_d = a/π, k_a = a;
+//! `phong`/`blinn-phong` k_s, k_e and their `diffuse` a as Lambert. k_a = a is the choice that
+//! makes the ambient term exact for an unshadowed Lambert surface under a constant environment
+//! (L = a L_a). For a shape with any other model, the term in brackets is the model's own
+//! ρ(I, V) (I·N) and k_a = π ρ(N, V), exact for Lambert again.
 //!
 //! Source: B. T. Phong, "Illumination for Computer Generated Pictures", CACM 18(6), 1975;
 //! J. F. Blinn, "Models of light reflection for computer synthesized pictures", SIGGRAPH 1977.
@@ -22,71 +22,27 @@
 use crate::light::{Light, RefPoint};
 use crate::ray::Ray;
 use crate::scene::Scene;
+use brdf::PhongTerms;
 use glam::Vec3;
 use radiometry::Rgb;
 use std::f32::consts::PI;
 
-/// The lecture's coefficients of one surface.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PhongCoefficients {
-    /// Ambient reflectance k_a (unitless).
-    pub ka: Rgb,
-    /// Diffuse coefficient k_d, 1/sr.
-    pub kd: Rgb,
-    /// Specular coefficient k_s, 1/sr.
-    pub ks: Rgb,
-    /// Specular exponent k_e.
-    pub ke: f32,
-    /// Blinn's half-vector form, (N·H)^k_e, instead of (R·V)^k_e.
-    pub half_vector: bool,
-}
-
-impl PhongCoefficients {
-    /// The coefficients of registry model `name` with parameters `given`, for `lambert`,
-    /// `phong` and `blinn-phong` (and their `modified-` forms, read with the same k_s, k_e);
-    /// None for other models or invalid parameters.
-    pub fn from_model(name: &str, given: &[(&str, &str)]) -> Option<Self> {
-        let spec = brdf::registry::find(name).ok()?;
-        let p = brdf::params::Params::resolve(name, &(spec.params)(), given).ok()?;
-        let diffuse = |key: &str| {
-            let a = p.rgb(key);
-            (a, a / PI)
-        };
-        match name {
-            "lambert" => {
-                let (ka, kd) = diffuse("albedo");
-                Some(PhongCoefficients { ka, kd, ks: Rgb::ZERO, ke: 1.0, half_vector: false })
-            }
-            "phong" | "modified-phong" | "blinn-phong" | "modified-blinn-phong" => {
-                let (ka, kd) = diffuse("diffuse");
-                Some(PhongCoefficients {
-                    ka,
-                    kd,
-                    ks: p.rgb("ks"),
-                    ke: p.float("ke"),
-                    half_vector: name.contains("blinn"),
-                })
-            }
-            _ => None,
-        }
+/// The bracketed term k_d (I·N) + k_s (R·V)^k_e of coefficients `k`, for unit `n`,
+/// `to_light`, `to_viewer`.
+#[inline]
+pub fn reflect(k: &PhongTerms, n: Vec3, to_light: Vec3, to_viewer: Vec3) -> Rgb {
+    let cos_i = n.dot(to_light);
+    if cos_i <= 0.0 || n.dot(to_viewer) <= 0.0 {
+        return Rgb::ZERO;
     }
-
-    /// The bracketed term k_d (I·N) + k_s (R·V)^k_e for unit `n`, `to_light`, `to_viewer`.
-    #[inline]
-    pub fn reflect(&self, n: Vec3, to_light: Vec3, to_viewer: Vec3) -> Rgb {
-        let cos_i = n.dot(to_light);
-        if cos_i <= 0.0 || n.dot(to_viewer) <= 0.0 {
-            return Rgb::ZERO;
-        }
-        let c = if self.half_vector {
-            (to_light + to_viewer).try_normalize().map_or(0.0, |h| n.dot(h))
-        } else {
-            (2.0 * cos_i * n - to_light).dot(to_viewer)
-        };
-        // 0^0 is 1 in powf; a lobe with k_e = 0 is then constant over the hemisphere, as it should be.
-        let spec = if c > 0.0 { c.min(1.0).powf(self.ke) } else { 0.0 };
-        self.kd * cos_i + self.ks * spec
-    }
+    let c = if k.half_vector {
+        (to_light + to_viewer).try_normalize().map_or(0.0, |h| n.dot(h))
+    } else {
+        (2.0 * cos_i * n - to_light).dot(to_viewer)
+    };
+    // 0^0 is 1 in powf; a lobe with k_e = 0 is then constant over the hemisphere, as it should be.
+    let spec = if c > 0.0 { c.min(1.0).powf(k.ke) } else { 0.0 };
+    k.kd * cos_i + k.ks * spec
 }
 
 /// The Phong radiance along `ray`: the environment where it escapes, the model at the first
@@ -98,52 +54,47 @@ pub fn li(scene: &Scene, ray: Ray, shadows: bool) -> Rgb {
     let v = -ray.d;
     let mut result = Rgb::ZERO;
     if let Some((_, area)) = scene.area_light(si.shape) {
-        result += area.emitted(si.ng, v);
+        result += area.emitted(si.frame.n, si.uv, v);
     }
-    let coefficients = scene.phong(si.shape);
-    let brdf = scene.brdf(si.shape);
-    // One-sided surfaces, as in the path tracer; a two-sided model is lit on the side seen,
-    // with the normals turned to face the viewer. A transmitting model shows its reflection
-    // only: the lecture's model knows no refraction.
-    let (n, ng) = if si.frame.n.dot(v) < 0.0 && si.ng.dot(v) < 0.0 && brdf.back_side() {
-        (-si.frame.n, -si.ng)
-    } else {
-        (si.frame.n, si.ng)
-    };
-    if n.dot(v) <= 0.0 || ng.dot(v) <= 0.0 {
-        return result;
-    }
-    let wo = si.frame.to_local(v);
-    let normal = Vec3::Z * wo.z.signum();
-    if let Some((_, Light::Constant(c))) = scene.environment() {
-        let ka = match coefficients {
-            Some(k) => k.ka,
-            None => brdf.eval(normal, wo) * PI,
-        };
-        result += ka * c.radiance;
-    }
-    let r = RefPoint { p: si.p, n: Some(n) };
-    for light in scene.lights() {
-        let Light::Point(pl) = light else { continue };
-        let Some(ls) = pl.sample(&r) else { continue };
-        if ls.wi.dot(ng) <= 0.0 {
-            continue;
+    scene.material(si.shape).with(&si, |brdf| {
+        let coefficients = brdf.phong_terms();
+        // One-sided surfaces, as in the path tracer; a two-sided model is lit on the side seen,
+        // with the normals turned to face the viewer. A transmitting model shows its reflection
+        // only: the lecture's model knows no refraction.
+        let (n, ng) =
+            if si.frame.n.dot(v) < 0.0 && brdf.back_side() { (-si.frame.n, -si.ng) } else { (si.frame.n, si.ng) };
+        if n.dot(v) <= 0.0 {
+            return;
         }
-        let term = match coefficients {
-            Some(k) => k.reflect(n, ls.wi, v),
-            None => {
-                let wi = si.frame.to_local(ls.wi);
-                if wi.z * wo.z <= 0.0 {
-                    continue;
+        let wo = si.frame.to_local(v);
+        let normal = Vec3::Z * wo.z.signum();
+        if let Some((_, Light::Constant(c))) = scene.environment() {
+            let ka = match &coefficients {
+                Some(k) => k.ka,
+                None => brdf.eval(normal, wo) * PI,
+            };
+            result += ka * c.radiance;
+        }
+        let r = RefPoint { p: si.p, n: Some(n) };
+        for light in scene.lights() {
+            let Light::Point(pl) = light else { continue };
+            let Some(ls) = pl.sample(&r) else { continue };
+            let term = match &coefficients {
+                Some(k) => reflect(k, n, ls.wi, v),
+                None => {
+                    let wi = si.frame.to_local(ls.wi);
+                    if wi.z * wo.z <= 0.0 {
+                        continue;
+                    }
+                    brdf.eval(wi, wo) * wi.z.abs()
                 }
-                brdf.eval(wi, wo) * wi.z.abs()
+            };
+            if term.is_black() || (shadows && !scene.unoccluded(si.p, ng, &ls)) {
+                continue;
             }
-        };
-        if term.is_black() || (shadows && !scene.unoccluded(si.p, ng, &ls)) {
-            continue;
+            result += ls.li * term;
         }
-        result += ls.li * term;
-    }
+    });
     if result.is_finite() {
         result
     } else {
@@ -231,7 +182,7 @@ mod tests {
         let mut b = SceneBuilder::new(cam);
         let m = Mat4::from_rotation_x(-std::f32::consts::FRAC_PI_2) * Mat4::from_scale(Vec3::splat(10.0));
         b.shape_with_model(Geometry::Rectangle(Rectangle::new(&m).unwrap()), "lambert", &[]).unwrap();
-        let ball = crate::shape::Sphere { center: Vec3::new(0.0, 1.0, 0.0), radius: 0.3 };
+        let ball = crate::shape::Sphere::new(Vec3::new(0.0, 1.0, 0.0), 0.3);
         b.shape_with_model(Geometry::Sphere(ball), "lambert", &[]).unwrap();
         b.light(Light::Point(PointLight { position: Vec3::new(0.0, 2.0, 0.0), intensity: Rgb::ONE }));
         let scene = b.build().unwrap();
@@ -242,11 +193,12 @@ mod tests {
 
     #[test]
     fn coefficients_from_models() {
-        let k = PhongCoefficients::from_model("lambert", &[("albedo", "0.5")]).unwrap();
+        let k = brdf::build("lambert", &[("albedo", "0.5")]).unwrap().phong_terms().unwrap();
         assert!((k.kd.0[0] - 0.5 / PI).abs() < 1e-7 && k.ka.0[0] == 0.5 && k.ks.is_black());
-        let k = PhongCoefficients::from_model("blinn-phong", &[("ks", "0.3"), ("ke", "8")]).unwrap();
+        let k = brdf::build("blinn-phong", &[("ks", "0.3"), ("ke", "8")]).unwrap().phong_terms().unwrap();
         assert!(k.half_vector && k.ke == 8.0 && k.ks.0[1] == 0.3 && k.kd.is_black());
-        assert!(PhongCoefficients::from_model("ggx", &[]).is_none());
-        assert!(PhongCoefficients::from_model("lambert", &[("albedo", "7")]).is_none());
+        let k = brdf::build("phong", &[("ks", "0.3"), ("diffuse", "0.2")]).unwrap().phong_terms().unwrap();
+        assert!(!k.half_vector && (k.kd.0[0] - 0.2 / PI).abs() < 1e-7 && k.ka.0[2] == 0.2);
+        assert!(brdf::build("ggx", &[]).unwrap().phong_terms().is_none());
     }
 }

@@ -1,4 +1,5 @@
-//! File input and output: images (EXR, PNG, Radiance HDR) and meshes (PLY, OBJ).
+//! File input and output: images (EXR, PNG, Radiance HDR) and meshes (PLY, OBJ, Mitsuba's
+//! serialized format).
 
 pub mod atomic;
 pub mod exr;
@@ -6,17 +7,24 @@ pub mod hdr;
 pub mod obj;
 pub mod ply;
 pub mod png;
+pub mod serialized;
 
 use crate::error::{Error, Result};
 use crate::shape::TriangleMesh;
 use std::path::Path;
 
-/// Loads a mesh by extension (`.ply` or `.obj`); `face_normals` ignores vertex normals.
-pub fn load_mesh(path: impl AsRef<Path>, face_normals: bool) -> Result<TriangleMesh> {
+/// Loads a mesh by extension (`.obj`, `.ply`, or the first mesh of a `.serialized` file) as
+/// Mitsuba would with its defaults: OBJ uvs flipped, smooth normals where the file has none.
+pub fn load_mesh(path: impl AsRef<Path>) -> Result<TriangleMesh> {
     let path = path.as_ref();
-    match path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).as_deref() {
-        Some("ply") => ply::load_ply(path, face_normals),
-        Some("obj") => obj::load_obj(path, face_normals),
-        _ => Err(Error::format(path, "cannot read meshes of this type; expected .ply or .obj")),
+    let mut m = match path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).as_deref() {
+        Some("ply") => ply::load_ply(path, false, false)?,
+        Some("obj") => obj::load_obj(path, false, true)?,
+        Some("serialized") => serialized::load_serialized(path, 0)?,
+        _ => return Err(Error::format(path, "cannot read meshes of this type; expected .obj, .ply or .serialized")),
+    };
+    if m.normals.is_none() {
+        m.compute_vertex_normals();
     }
+    Ok(m)
 }

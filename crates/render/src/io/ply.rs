@@ -1,11 +1,12 @@
 //! PLY triangle meshes (Turk, "The PLY polygon file format", 1994): ASCII and binary (both
-//! byte orders), vertices `x y z` with optional `nx ny nz`, faces as a `vertex_indices` (or
+//! byte orders), vertices `x y z` with optional `nx ny nz` and uvs (`u v`, else `texture_u
+//! texture_v`, else `s t`, as Mitsuba reads them), faces as a `vertex_indices` (or
 //! `vertex_index`) list, polygons fanned into triangles. Other elements and properties are
 //! read past. Errors name the header line or the element and record that is wrong.
 
 use crate::error::{Error, Result};
 use crate::shape::TriangleMesh;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use std::path::Path;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -111,36 +112,60 @@ impl Body<'_> {
     }
 }
 
-/// Loads a PLY file as a triangle mesh; `face_normals` drops any vertex normals.
-pub fn load_ply(path: &Path, face_normals: bool) -> Result<TriangleMesh> {
+/// Loads a PLY file as a triangle mesh; `face_normals` drops any vertex normals, `flip_v`
+/// stores 1 − v.
+pub fn load_ply(path: &Path, face_normals: bool, flip_v: bool) -> Result<TriangleMesh> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let (positions, normals, indices) = parse_ply(&bytes).map_err(|m| Error::format(path, m))?;
-    let normals = if face_normals { None } else { normals };
-    TriangleMesh::new(positions, normals, indices).map_err(|e| Error::format(path, e.to_string()))
+    let m = parse_ply(&bytes).map_err(|m| Error::format(path, m))?;
+    let normals = if face_normals { None } else { m.normals };
+    let uvs = m.uvs.map(|t| if flip_v { t.into_iter().map(|t| Vec2::new(t.x, 1.0 - t.y)).collect() } else { t });
+    TriangleMesh::with_uvs(m.positions, normals, uvs, m.indices).map_err(|e| Error::format(path, e.to_string()))
 }
 
-type MeshData = (Vec<Vec3>, Option<Vec<Vec3>>, Vec<[u32; 3]>);
+/// A mesh as read from a file.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshData {
+    /// Vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Vertex normals, when the file has them.
+    pub normals: Option<Vec<Vec3>>,
+    /// Vertex uvs, when the file has them.
+    pub uvs: Option<Vec<Vec2>>,
+    /// Triangles.
+    pub indices: Vec<[u32; 3]>,
+}
 
-/// Parses PLY bytes into positions, optional normals and triangles.
+/// Parses PLY bytes into positions, optional normals and uvs, and triangles.
 pub fn parse_ply(bytes: &[u8]) -> std::result::Result<MeshData, String> {
     let (elements, format, body_start) = parse_header(bytes)?;
     let mut body = Body { bytes, pos: body_start, format };
     let mut positions = Vec::new();
     let mut normals: Option<Vec<Vec3>> = None;
+    let mut uvs: Option<Vec<Vec2>> = None;
     let mut indices = Vec::new();
+    // A record takes at least one byte (a binary scalar) or two (an ASCII number and a space):
+    // more records than bytes cannot be there, so the header cannot size an allocation past the file.
+    let room = |count: usize| count.min(bytes.len());
     let mut vertex_count = None;
     for el in &elements {
         let find = |n: &str| el.props.iter().position(|p| matches!(p, Property::Scalar(name, _) if name == n));
         let is_vertex = el.name == "vertex";
         let xyz = [find("x"), find("y"), find("z")];
         let nxyz = [find("nx"), find("ny"), find("nz")];
+        let uv = [["u", "v"], ["texture_u", "texture_v"], ["s", "t"]]
+            .iter()
+            .map(|[a, b]| [find(a), find(b)])
+            .find(|p| p.iter().all(Option::is_some));
         if is_vertex {
             if xyz.iter().any(Option::is_none) {
                 return Err("element 'vertex' lacks one of the properties x, y, z".into());
             }
-            positions.reserve(el.count);
+            positions.reserve(room(el.count));
             if nxyz.iter().all(Option::is_some) {
-                normals = Some(Vec::with_capacity(el.count));
+                normals = Some(Vec::with_capacity(room(el.count)));
+            }
+            if uv.is_some() {
+                uvs = Some(Vec::with_capacity(room(el.count)));
             }
             vertex_count = Some(el.count);
         }
@@ -194,13 +219,16 @@ pub fn parse_ply(bytes: &[u8]) -> std::result::Result<MeshData, String> {
                 if let Some(ns) = &mut normals {
                     ns.push(get(nxyz));
                 }
+                if let (Some(ts), Some([u, v])) = (&mut uvs, uv) {
+                    ts.push(Vec2::new(values[u.unwrap()] as f32, values[v.unwrap()] as f32));
+                }
             }
         }
     }
     if positions.is_empty() || indices.is_empty() {
         return Err(format!("no triangles ({} vertices, {} triangles)", positions.len(), indices.len()));
     }
-    Ok((positions, normals, indices))
+    Ok(MeshData { positions, normals, uvs, indices })
 }
 
 fn parse_header(bytes: &[u8]) -> std::result::Result<(Vec<Element>, Format, usize), String> {
@@ -284,19 +312,28 @@ mod tests {
 
     #[test]
     fn ascii_quad_is_fanned_and_keeps_normals() {
-        let (p, n, i) = parse_ply(ASCII.as_bytes()).unwrap();
-        assert_eq!(p.len(), 4);
-        assert_eq!(i, vec![[0, 1, 2], [0, 2, 3]]);
-        assert_eq!(n.unwrap()[2], Vec3::Z);
+        let m = parse_ply(ASCII.as_bytes()).unwrap();
+        assert_eq!(m.positions.len(), 4);
+        assert_eq!(m.indices, vec![[0, 1, 2], [0, 2, 3]]);
+        assert_eq!(m.normals.unwrap()[2], Vec3::Z);
+        assert!(m.uvs.is_none());
+        let with_uv = ASCII
+            .replace("property float nz\n", "property float nz\nproperty float u\nproperty float v\n")
+            .replace(" 0 0 1\n", " 0 0 1 0.25 0.75\n");
+        let m = parse_ply(with_uv.as_bytes()).unwrap();
+        assert_eq!(m.uvs.unwrap()[1], Vec2::new(0.25, 0.75));
+        // A header that promises more vertices than the file could hold is caught, not allocated.
+        let e = parse_ply(ASCII.replace("element vertex 4", "element vertex 4000000000000").as_bytes()).unwrap_err();
+        assert!(e.contains("ends early") || e.contains("record"), "{e}");
     }
 
     #[test]
     fn binary_both_byte_orders_skip_unused_properties() {
         for big in [false, true] {
-            let (p, n, i) = parse_ply(&binary(big)).unwrap();
-            assert_eq!(p, vec![Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0)]);
-            assert!(n.is_none());
-            assert_eq!(i, vec![[0, 1, 2]]);
+            let m = parse_ply(&binary(big)).unwrap();
+            assert_eq!(m.positions, vec![Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0)]);
+            assert!(m.normals.is_none());
+            assert_eq!(m.indices, vec![[0, 1, 2]]);
         }
     }
 
@@ -315,7 +352,7 @@ mod tests {
         assert!(e.contains("ends early"), "{e}");
         let e = parse_ply(ASCII.replace("end_header\n", "").as_bytes()).unwrap_err();
         assert!(e.contains("end_header") || e.contains("header line"), "{e}");
-        let e = load_ply(Path::new("/nonexistent/x.ply"), false).unwrap_err().to_string();
+        let e = load_ply(Path::new("/nonexistent/x.ply"), false, false).unwrap_err().to_string();
         assert!(e.contains("/nonexistent/x.ply"), "{e}");
     }
 
@@ -323,7 +360,7 @@ mod tests {
     fn benchmark_torus_loads_when_present() {
         let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/bench/data/torus.ply");
         if p.exists() {
-            let m = load_ply(&p, false).unwrap();
+            let m = load_ply(&p, false, false).unwrap();
             assert_eq!((m.positions.len(), m.len()), (50_000, 100_000));
             assert!(m.normals.is_some());
         }

@@ -21,9 +21,9 @@
 use crate::error::{Error, Result};
 use crate::image::Image;
 use crate::light::LightSample;
-use crate::warp2d::{bilerp, Bilinear2D};
 use glam::{Vec2, Vec3};
 use radiometry::warp::{uniform_sphere, uniform_sphere_pdf};
+use radiometry::warp2d::{bilerp, Bilinear2D};
 use radiometry::Rgb;
 use std::f32::consts::{PI, TAU};
 

@@ -1,13 +1,16 @@
 //! The spot light (Mitsuba 3's `spot`): a point light at the origin of its `to_world` frame
-//! shining along local +z with intensity I(θ) = I₀·s(θ), where θ is the angle from the axis
-//! and s = 1 inside `beam_width`, 0 beyond `cutoff_angle`, and falls linearly in θ between.
+//! shining along local +z with intensity I(θ) = I₀·s(θ)·T(uv), where θ is the angle from the
+//! axis and s = 1 inside `beam_width`, 0 beyond `cutoff_angle`, and falls linearly in θ
+//! between. An optional texture T is projected over the cone: a local direction (x, y, z)
+//! reads uv = (½ + ½ (x/z)/tan(cutoff), ½ + ½ (y/z)/tan(cutoff)), Mitsuba's projection.
 
 use crate::light::{LightSample, PointLight, RefPoint};
-use glam::Vec3;
+use crate::texture::Texture;
+use glam::{Mat3, Vec2, Vec3};
 use radiometry::Rgb;
 
 /// A spot light.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct SpotLight {
     /// Position.
     pub position: Vec3,
@@ -19,6 +22,8 @@ pub struct SpotLight {
     pub cutoff: f32,
     /// Half-angle within which the full intensity is emitted, radians (≤ cutoff).
     pub beam_width: f32,
+    /// A texture projected over the cone, and the light's frame (world → local).
+    pub texture: Option<(Texture, Mat3)>,
 }
 
 impl SpotLight {
@@ -43,6 +48,11 @@ impl SpotLight {
             return None;
         }
         sample.li *= s;
+        if let Some((t, to_local)) = &self.texture {
+            let d = *to_local * -sample.wi;
+            let k = 0.5 / self.cutoff.tan();
+            sample.li = sample.li * t.eval(Vec2::new(0.5 + k * d.x / d.z, 0.5 + k * d.y / d.z));
+        }
         Some(sample)
     }
 }
@@ -59,6 +69,7 @@ mod tests {
             intensity: Rgb::splat(8.0),
             cutoff: 30f32.to_radians(),
             beam_width: 20f32.to_radians(),
+            texture: None,
         };
         let below = l.sample(&RefPoint { p: Vec3::ZERO, n: Some(Vec3::Y) }).unwrap();
         assert!(below.delta && below.wi == Vec3::Y && below.li == Rgb::splat(2.0));

@@ -1,12 +1,13 @@
 //! Disks: the unit disk x² + y² ≤ 1 in the local XY plane with normal +Z, placed by a 4×4
 //! to-world matrix (Mitsuba's `disk`). In world space this is the ellipse c + x·a + y·b,
 //! x² + y² ≤ 1, in the plane of the rectangle with the same matrix, whose machinery (plane,
-//! normal, local coordinates) it reuses.
+//! normal, local coordinates) it reuses. Mitsuba's polar coordinates: uv = (r, φ/2π) with
+//! φ in [0, 2π), ∂p/∂u = a cos φ + b sin φ, ∂p/∂v = 2π(−y a + x b); both vanish at the centre.
 
-use crate::shape::{Aabb, Rectangle};
+use crate::shape::{Aabb, Rectangle, SurfacePoint};
 use glam::{Mat4, Vec2, Vec3};
 use radiometry::warp::concentric_disk;
-use std::f32::consts::PI;
+use std::f32::consts::{PI, TAU};
 
 /// An ellipse from the unit disk under an affine map.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -51,12 +52,35 @@ impl Disk {
         (self.frame.local(o + d * t).length_squared() <= 1.0).then_some(t)
     }
 
-    /// A point uniform over the area: (point, normal, area pdf). The affine map scales all
-    /// areas by the same factor, so a uniform point on the unit disk stays uniform.
-    pub fn sample_area(&self, u: Vec2) -> (Vec3, Vec3, f32) {
-        let q = concentric_disk(u);
-        let p = self.frame.center + self.frame.a * q.x + self.frame.b * q.y;
-        (p, self.frame.n, 1.0 / self.area())
+    /// The surface data at local point `q` of the unit disk.
+    fn surface_local(&self, q: Vec2) -> SurfacePoint {
+        let (a, b) = (self.frame.a, self.frame.b);
+        let r = q.length();
+        let mut phi = q.y.atan2(q.x);
+        if phi < 0.0 {
+            phi += TAU;
+        }
+        let dp_du = if r > 0.0 { (a * q.x + b * q.y) / r } else { Vec3::ZERO };
+        let n = if self.frame.flip { -self.frame.n } else { self.frame.n };
+        SurfacePoint {
+            p: self.frame.center + a * q.x + b * q.y,
+            ng: n,
+            ns: n,
+            uv: Vec2::new(r, phi / TAU),
+            dp_du,
+            dp_dv: (b * q.x - a * q.y) * TAU,
+        }
+    }
+
+    /// The surface data at `p` (in the disk's plane).
+    pub fn surface(&self, p: Vec3) -> SurfacePoint {
+        SurfacePoint { p, ..self.surface_local(self.frame.local(p)) }
+    }
+
+    /// A point uniform over the area, with its area pdf. The affine map scales all areas by
+    /// the same factor, so a uniform point on the unit disk stays uniform.
+    pub fn sample_area(&self, u: Vec2) -> (SurfacePoint, f32) {
+        (self.surface_local(concentric_disk(u)), 1.0 / self.area())
     }
 }
 
@@ -82,7 +106,8 @@ mod tests {
         assert!(d.intersect(Vec3::new(0.0, 0.0, 0.0), -Vec3::Z, 1.0).is_none(), "beyond t_max");
         for k in 0..100 {
             let u = Vec2::new((k % 10) as f32 / 10.0 + 0.05, (k / 10) as f32 / 10.0 + 0.05);
-            let (p, _, pdf) = d.sample_area(u);
+            let (s, pdf) = d.sample_area(u);
+            let p = s.p;
             assert!(d.frame.local(p).length() <= 1.0 + 1e-5 && (p.z + 2.0).abs() < 1e-6);
             assert!((pdf * 2.0 * PI - 1.0).abs() < 1e-5);
         }

@@ -1,12 +1,18 @@
-//! Triangle meshes: shared vertex positions, optional per-vertex normals (smooth shading),
-//! ray-triangle intersection by Möller & Trumbore, "Fast, minimum storage ray/triangle
-//! intersection", JGT 1997, and uniform area sampling by the square-root warp
-//! (Turk, "Generating random points in triangles", Graphics Gems 1990).
+//! Triangle meshes: shared vertex positions, optional per-vertex normals (smooth shading) and
+//! uvs, ray-triangle intersection by Möller & Trumbore, "Fast, minimum storage ray/triangle
+//! intersection", JGT 1997, and uniform area sampling by the square-root warp (Turk,
+//! "Generating random points in triangles", Graphics Gems 1990).
+//!
+//! At barycentrics (b1, b2) of corners 1 and 2 (Mitsuba 3's `Mesh`): the geometric normal
+//! follows the winding, (p1 − p0) × (p2 − p0); with uvs, uv is interpolated and ∂p/∂u, ∂p/∂v
+//! solve dp = ∂p/∂u du + ∂p/∂v dv on the two edges (the normal's basis when the uv triangle is
+//! degenerate); without uvs, uv = (b1, b2), ∂p/∂u = p1 − p0 and ∂p/∂v = p2 − p0.
 
-use crate::distribution::Distribution1D;
 use crate::error::{Error, Result};
-use crate::shape::Aabb;
+use crate::shape::{Aabb, SurfacePoint};
 use glam::{Mat4, Vec2, Vec3};
+use radiometry::distribution::Distribution1D;
+use radiometry::Frame;
 
 /// An indexed triangle mesh in world space.
 #[derive(Clone, Debug)]
@@ -15,8 +21,12 @@ pub struct TriangleMesh {
     pub positions: Vec<Vec3>,
     /// Unit vertex normals, when the mesh is smooth-shaded.
     pub normals: Option<Vec<Vec3>>,
+    /// Vertex uvs, when the mesh has them.
+    pub uvs: Option<Vec<Vec2>>,
     /// Vertex indices, three per triangle, counter-clockwise seen from the front.
     pub indices: Vec<[u32; 3]>,
+    /// Mitsuba's `flip_normals`: both normals point the other way (uvs and ∂p/∂u do not change).
+    pub flip: bool,
     /// Triangle areas as a sampling distribution (for area lights).
     area: Distribution1D,
 }
@@ -25,20 +35,41 @@ impl TriangleMesh {
     /// A mesh from its parts; checks that indices are in range and the data finite.
     /// Zero-area triangles are kept (they are never hit and never sampled).
     pub fn new(positions: Vec<Vec3>, normals: Option<Vec<Vec3>>, indices: Vec<[u32; 3]>) -> Result<Self> {
+        Self::with_uvs(positions, normals, None, indices)
+    }
+
+    /// A mesh with vertex uvs as well.
+    pub fn with_uvs(
+        positions: Vec<Vec3>,
+        normals: Option<Vec<Vec3>>,
+        uvs: Option<Vec<Vec2>>,
+        indices: Vec<[u32; 3]>,
+    ) -> Result<Self> {
+        let nv = positions.len();
         if let Some(n) = &normals {
-            if n.len() != positions.len() {
-                return Err(Error::Invalid(format!("mesh has {} normals for {} vertices", n.len(), positions.len())));
+            if n.len() != nv {
+                return Err(Error::Invalid(format!("mesh has {} normals for {nv} vertices", n.len())));
+            }
+            if let Some(i) = n.iter().position(|n| !n.is_finite()) {
+                return Err(Error::Invalid(format!("mesh normal {i} is not finite: {:?}", n[i])));
+            }
+        }
+        if let Some(t) = &uvs {
+            if t.len() != nv {
+                return Err(Error::Invalid(format!("mesh has {} uvs for {nv} vertices", t.len())));
+            }
+            if let Some(i) = t.iter().position(|t| !t.is_finite()) {
+                return Err(Error::Invalid(format!("mesh uv {i} is not finite: {:?}", t[i])));
             }
         }
         if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
             return Err(Error::Invalid(format!("mesh vertex {i} is not finite: {:?}", positions[i])));
         }
-        let nv = positions.len() as u64;
-        if let Some((t, tri)) = indices.iter().enumerate().find(|(_, t)| t.iter().any(|&i| i as u64 >= nv)) {
+        if let Some((t, tri)) = indices.iter().enumerate().find(|(_, t)| t.iter().any(|&i| i as usize >= nv)) {
             return Err(Error::Invalid(format!("mesh triangle {t} has index {tri:?} beyond the {nv} vertices")));
         }
         let normals = normals.map(|ns| ns.into_iter().map(|n| n.try_normalize().unwrap_or(Vec3::ZERO)).collect());
-        let mut m = TriangleMesh { positions, normals, indices, area: Distribution1D::new(&[]) };
+        let mut m = TriangleMesh { positions, normals, uvs, indices, flip: false, area: Distribution1D::new(&[]) };
         m.update_areas();
         Ok(m)
     }
@@ -60,6 +91,22 @@ impl TriangleMesh {
             }
         }
         self.update_areas();
+    }
+
+    /// Smooth vertex normals where the file gave none (Mitsuba's default): each face's unit
+    /// normal added to its corners weighted by the corner's angle; (1, 0, 0) for a vertex that
+    /// no face with area touches.
+    pub fn compute_vertex_normals(&mut self) {
+        let mut acc = vec![Vec3::ZERO; self.positions.len()];
+        for tri in &self.indices {
+            let p = tri.map(|i| self.positions[i as usize]);
+            let Some(n) = (p[1] - p[0]).cross(p[2] - p[0]).try_normalize() else { continue };
+            for k in 0..3 {
+                let (a, b) = ((p[(k + 1) % 3] - p[k]).normalize_or_zero(), (p[(k + 2) % 3] - p[k]).normalize_or_zero());
+                acc[tri[k] as usize] += n * unit_angle(a, b);
+            }
+        }
+        self.normals = Some(acc.into_iter().map(|n| n.try_normalize().unwrap_or(Vec3::X)).collect());
     }
 
     /// The number of triangles.
@@ -96,31 +143,53 @@ impl TriangleMesh {
         Aabb { min: a.min(b).min(c), max: a.max(b).max(c) }
     }
 
-    /// Geometric normal (unit, by the winding) and shading normal of triangle `i` at
-    /// barycentrics (u, v) of corners 1 and 2; the geometric normal is flipped to the
-    /// shading normal's side so that "front" means the same thing to both.
-    pub fn normals_at(&self, i: usize, u: f32, v: f32) -> (Vec3, Vec3) {
-        let [a, b, c] = self.triangle(i);
-        let ng = (b - a).cross(c - a).try_normalize().unwrap_or(Vec3::Z);
-        let Some(ns) = &self.normals else { return (ng, ng) };
-        let [ia, ib, ic] = self.indices[i];
-        let n = ns[ia as usize] * (1.0 - u - v) + ns[ib as usize] * u + ns[ic as usize] * v;
-        match n.try_normalize() {
-            Some(n) if n.dot(ng) < 0.0 => (-ng, n),
-            Some(n) => (ng, n),
-            None => (ng, ng),
-        }
+    /// The surface at barycentrics (b1, b2) of corners 1 and 2 of triangle `i`.
+    pub fn surface(&self, i: usize, b1: f32, b2: f32) -> SurfacePoint {
+        let idx = self.indices[i].map(|k| k as usize);
+        let [p0, p1, p2] = idx.map(|k| self.positions[k]);
+        let b0 = 1.0 - b1 - b2;
+        let p = p0 * b0 + p1 * b1 + p2 * b2;
+        let (dp0, dp1) = (p1 - p0, p2 - p0);
+        let ng = dp0.cross(dp1).try_normalize().unwrap_or(Vec3::Z);
+        let (uv, dp_du, dp_dv) = match &self.uvs {
+            Some(t) => {
+                let [t0, t1, t2] = idx.map(|k| t[k]);
+                let (duv0, duv1) = (t1 - t0, t2 - t0);
+                let det = duv0.x * duv1.y - duv0.y * duv1.x;
+                let (du, dv) = if det != 0.0 {
+                    let inv = 1.0 / det;
+                    ((dp0 * duv1.y - dp1 * duv0.y) * inv, (dp1 * duv0.x - dp0 * duv1.x) * inv)
+                } else {
+                    let f = Frame::from_normal(ng);
+                    (f.s, f.t)
+                };
+                (t0 * b0 + t1 * b1 + t2 * b2, du, dv)
+            }
+            None => (Vec2::new(b1, b2), dp0, dp1),
+        };
+        let ns = match &self.normals {
+            Some(n) => (n[idx[0]] * b0 + n[idx[1]] * b1 + n[idx[2]] * b2).try_normalize().unwrap_or(ng),
+            None => ng,
+        };
+        let s = if self.flip { -1.0 } else { 1.0 };
+        SurfacePoint { p, ng: ng * s, ns: ns * s, uv, dp_du, dp_dv }
     }
 
-    /// A point uniformly distributed over the mesh surface: (point, geometric normal, area pdf).
-    pub fn sample_area(&self, uc: f32, u: Vec2) -> (Vec3, Vec3, f32) {
+    /// A point uniformly distributed over the mesh surface, with its area pdf.
+    pub fn sample_area(&self, uc: f32, u: Vec2) -> (SurfacePoint, f32) {
         let (i, _, _) = self.area.sample(uc);
-        let [a, b, c] = self.triangle(i);
         let su = u.x.sqrt();
         let (b1, b2) = (su * (1.0 - u.y), su * u.y);
-        let p = a * (1.0 - b1 - b2) + b * b1 + c * b2;
-        let (ng, _) = self.normals_at(i, b1, b2);
-        (p, ng, 1.0 / self.area().max(f32::MIN_POSITIVE))
+        (self.surface(i, b1, b2), 1.0 / self.area().max(f32::MIN_POSITIVE))
+    }
+}
+
+/// The angle between unit vectors, accurate near 0 and π (Mitsuba's `unit_angle`).
+fn unit_angle(a: Vec3, b: Vec3) -> f32 {
+    if a.dot(b) < 0.0 {
+        std::f32::consts::PI - 2.0 * (0.5 * (a + b).length()).min(1.0).asin()
+    } else {
+        2.0 * (0.5 * (b - a).length()).min(1.0).asin()
     }
 }
 
@@ -176,10 +245,10 @@ mod tests {
         assert!((m.area() - 1.0).abs() < 1e-6);
         m.transform(&Mat4::from_scale(Vec3::new(2.0, 3.0, 1.0)));
         assert!((m.area() - 6.0).abs() < 1e-5);
-        let (ng, ns) = m.normals_at(0, 0.2, 0.2);
-        assert!((ng - Vec3::Z).length() < 1e-6 && (ns - Vec3::Z).length() < 1e-6);
-        let (p, _, pdf) = m.sample_area(0.7, Vec2::new(0.3, 0.6));
-        assert!(p.x >= 0.0 && p.x <= 2.0 && p.y >= 0.0 && p.y <= 3.0 && p.z == 0.0);
+        let s = m.surface(0, 0.2, 0.2);
+        assert!((s.ng - Vec3::Z).length() < 1e-6 && (s.ns - Vec3::Z).length() < 1e-6);
+        let (s, pdf) = m.sample_area(0.7, Vec2::new(0.3, 0.6));
+        assert!(s.p.x >= 0.0 && s.p.x <= 2.0 && s.p.y >= 0.0 && s.p.y <= 3.0 && s.p.z == 0.0);
         assert!((pdf - 1.0 / 6.0).abs() < 1e-6);
     }
 }

@@ -1,5 +1,8 @@
 //! Shapes: triangle meshes, spheres, rectangles and disks, their bounding boxes, and the
-//! primitive-level interface the BVH and the lights use.
+//! primitive-level interface the BVH and the lights use. Every shape gives a hit its uv and
+//! ∂p/∂u, ∂p/∂v exactly as Mitsuba 3 defines them, so that textures, anisotropic models and
+//! normal maps line up with Mitsuba's images; the shading frame is then Gram–Schmidt of ∂p/∂u
+//! against the shading normal (`SurfacePoint::frame`).
 
 pub mod disk;
 pub mod mesh;
@@ -12,6 +15,41 @@ pub use rectangle::Rectangle;
 pub use sphere::{ShapeSample, Sphere};
 
 use glam::{Vec2, Vec3};
+use radiometry::Frame;
+
+/// The local geometry of a surface point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfacePoint {
+    /// The point.
+    pub p: Vec3,
+    /// Unit geometric normal (a triangle's by its winding; flipped with `flip_normals`).
+    pub ng: Vec3,
+    /// Unit shading normal (interpolated vertex normals, else `ng`).
+    pub ns: Vec3,
+    /// Surface coordinates.
+    pub uv: Vec2,
+    /// ∂p/∂u.
+    pub dp_du: Vec3,
+    /// ∂p/∂v.
+    pub dp_dv: Vec3,
+}
+
+impl SurfacePoint {
+    /// Mitsuba's shading frame: s = ∂p/∂u made orthogonal to the shading normal, t = n × s;
+    /// where ∂p/∂u vanishes (a sphere's poles, a disk's centre) the normal's own basis.
+    #[inline]
+    pub fn frame(&self) -> Frame {
+        let n = self.ns;
+        if self.dp_du == Vec3::ZERO {
+            return Frame::from_normal(n);
+        }
+        let s = (self.dp_du - n * n.dot(self.dp_du)).normalize();
+        if !s.is_finite() {
+            return Frame::from_normal(n);
+        }
+        Frame { s, t: n.cross(s), n }
+    }
+}
 
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -102,14 +140,14 @@ impl Geometry {
 
     /// A point on the shape seen from `r`, with its solid-angle density at `r`.
     pub fn sample(&self, r: Vec3, uc: f32, u: Vec2) -> Option<ShapeSample> {
-        let (p, n, pdf_area) = match self {
+        let (point, pdf_area) = match self {
             Geometry::Sphere(s) => return s.sample(r, u),
             Geometry::Mesh(m) => m.sample_area(uc, u),
             Geometry::Rectangle(q) => q.sample_area(u),
             Geometry::Disk(d) => d.sample_area(u),
         };
-        let pdf = sphere::area_to_solid_angle(pdf_area, r, p, n)?;
-        Some(ShapeSample { p, n, pdf })
+        let pdf = sphere::area_to_solid_angle(pdf_area, r, point.p, point.ng)?;
+        Some(ShapeSample { p: point.p, n: point.ng, ns: point.ns, uv: point.uv, pdf })
     }
 
     /// The solid-angle density of `sample` from `r` giving point `p` with normal `n`.

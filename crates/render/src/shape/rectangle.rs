@@ -1,8 +1,11 @@
 //! Rectangles: the square [−1, 1]² in the local XY plane with normal +Z, placed by a 4×4
 //! to-world matrix (Mitsuba's `rectangle`). In world space this is the parallelogram
-//! c + x·a + y·b, |x|, |y| ≤ 1, whose normal is the local +Z under the inverse transpose.
+//! c + x·a + y·b, |x|, |y| ≤ 1, whose shading normal is the local +Z under the inverse
+//! transpose; its geometric normal is a × b, the winding of Mitsuba's two triangles, so the
+//! two point apart under a mirroring matrix, as in Mitsuba. uv = ((x + 1)/2, (y + 1)/2),
+//! ∂p/∂u = 2a, ∂p/∂v = 2b.
 
-use crate::shape::Aabb;
+use crate::shape::{Aabb, SurfacePoint};
 use glam::{Mat4, Vec2, Vec3};
 
 /// A parallelogram from the unit square under an affine map.
@@ -14,8 +17,12 @@ pub struct Rectangle {
     pub a: Vec3,
     /// Half-edge along local y.
     pub b: Vec3,
-    /// Unit normal (the image of local +Z as a normal).
+    /// Unit shading normal (the image of local +Z as a normal).
     pub n: Vec3,
+    /// Unit geometric normal, along a × b.
+    pub ng: Vec3,
+    /// Mitsuba's `flip_normals`: both normals point the other way.
+    pub flip: bool,
     /// Dual vectors: (p − c)·da = x and (p − c)·db = y for points in the plane.
     da: Vec3,
     db: Vec3,
@@ -34,7 +41,7 @@ impl Rectangle {
         let n = if det < 0.0 { -plane_n } else { plane_n };
         let bn = b.cross(plane_n);
         let na = plane_n.cross(a);
-        Some(Rectangle { center, a, b, n, da: bn / a.dot(bn), db: na / b.dot(na) })
+        Some(Rectangle { center, a, b, n, ng: plane_n, flip: false, da: bn / a.dot(bn), db: na / b.dot(na) })
     }
 
     /// The bounding box of the four corners.
@@ -69,10 +76,27 @@ impl Rectangle {
         Vec2::new(q.dot(self.da), q.dot(self.db))
     }
 
-    /// A point uniform over the area: (point, normal, area pdf).
-    pub fn sample_area(&self, u: Vec2) -> (Vec3, Vec3, f32) {
+    /// The surface data at `p` (in the plane).
+    pub fn surface(&self, p: Vec3) -> SurfacePoint {
+        let q = self.local(p);
+        let s = if self.flip { -1.0 } else { 1.0 };
+        SurfacePoint {
+            p,
+            ng: self.ng * s,
+            ns: self.n * s,
+            uv: (q + Vec2::ONE) * 0.5,
+            dp_du: 2.0 * self.a,
+            dp_dv: 2.0 * self.b,
+        }
+    }
+
+    /// A point uniform over the area, with its area pdf.
+    pub fn sample_area(&self, u: Vec2) -> (SurfacePoint, f32) {
         let p = self.center + self.a * (2.0 * u.x - 1.0) + self.b * (2.0 * u.y - 1.0);
-        (p, self.n, 1.0 / self.area())
+        let mut s = self.surface(p);
+        // The uv of the sample itself, free of the plane-projection rounding.
+        s.uv = u;
+        (s, 1.0 / self.area())
     }
 }
 
@@ -92,7 +116,8 @@ mod tests {
         assert!((t - 5.0).abs() < 1e-6);
         assert!(r.intersect(Vec3::new(10.5, 5.0, 0.0), -Vec3::Y, 100.0).is_none());
         assert!(r.intersect(Vec3::new(0.0, 5.0, 0.0), Vec3::X, 100.0).is_none(), "parallel ray");
-        let (p, _, pdf) = r.sample_area(Vec2::new(1.0, 0.0));
+        let (s, pdf) = r.sample_area(Vec2::new(1.0, 0.0));
+        let p = s.p;
         assert!((p - Vec3::new(10.0, 0.0, 10.0)).length() < 1e-5, "{p:?}");
         assert!((pdf * 400.0 - 1.0).abs() < 1e-6);
         assert!((r.local(Vec3::new(5.0, 0.0, -2.5)) - Vec2::new(0.5, 0.25)).length() < 1e-6);

@@ -1,13 +1,18 @@
-//! Analytic spheres, normals pointing outwards. Intersection uses the form of Haines et al.,
-//! "Precision improvements for ray/sphere intersection" (Ray Tracing Gems, 2019), which
-//! keeps f32 accuracy far from the sphere; sampling from outside draws the cone of
-//! directions the sphere subtends (uniform in solid angle), from inside its area.
+//! Analytic spheres, normals pointing outwards (inwards with `flip_normals`). Intersection
+//! uses the form of Haines et al., "Precision improvements for ray/sphere intersection" (Ray
+//! Tracing Gems, 2019), which keeps f32 accuracy far from the sphere; sampling from outside
+//! draws the cone of directions the sphere subtends (uniform in solid angle), from inside its area.
+//!
+//! Surface coordinates are Mitsuba 3's: with q the unit point in the sphere's own frame (its
+//! `to_world` rotation undone), u = φ/2π (φ = atan2(q_y, q_x) in [0, 2π)), v = θ/π (θ from +z),
+//! ∂p/∂u = 2π R(−q_y, q_x, 0) and ∂p/∂v = π R(q_z cos φ, q_z sin φ, −sin θ), R the linear part of
+//! the placement (rotation times radius).
 
-use crate::shape::Aabb;
-use glam::{Vec2, Vec3};
+use crate::shape::{Aabb, SurfacePoint};
+use glam::{Mat3, Vec2, Vec3};
 use radiometry::warp::{uniform_cone, uniform_sphere};
 use radiometry::Frame;
-use std::f32::consts::PI;
+use std::f32::consts::{PI, TAU};
 
 /// A sphere.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -16,6 +21,10 @@ pub struct Sphere {
     pub center: Vec3,
     /// Radius (> 0).
     pub radius: f32,
+    /// The orientation of its own frame (uv and tangents), a rotation.
+    pub rotation: Mat3,
+    /// Mitsuba's `flip_normals`: the normal points inwards.
+    pub flip: bool,
 }
 
 /// A point sampled on a shape as seen from a reference point.
@@ -23,13 +32,52 @@ pub struct Sphere {
 pub struct ShapeSample {
     /// The point.
     pub p: Vec3,
-    /// The unit surface normal there.
+    /// The unit geometric normal there.
     pub n: Vec3,
+    /// The unit shading normal there (the side an area light emits to).
+    pub ns: Vec3,
+    /// Its surface coordinates.
+    pub uv: Vec2,
     /// Density in solid angle at the reference point.
     pub pdf: f32,
 }
 
 impl Sphere {
+    /// A sphere in its own orientation (the world's axes), normals outwards.
+    pub fn new(center: Vec3, radius: f32) -> Self {
+        Sphere { center, radius, rotation: Mat3::IDENTITY, flip: false }
+    }
+
+    /// The surface data at `p` (on the sphere).
+    pub fn surface(&self, p: Vec3) -> SurfacePoint {
+        let n0 = self.normal_out(p);
+        let p = self.center + n0 * self.radius;
+        let q = self.rotation.transpose() * n0;
+        let mut phi = q.y.atan2(q.x);
+        if phi < 0.0 {
+            phi += TAU;
+        }
+        let theta = unit_angle_z(q);
+        let rd = (q.x * q.x + q.y * q.y).sqrt();
+        let dv = if rd == 0.0 { Vec3::X } else { Vec3::new(q.z * q.x / rd, q.z * q.y / rd, -rd) };
+        let lin = self.rotation * self.radius;
+        let n = if self.flip { -n0 } else { n0 };
+        SurfacePoint {
+            p,
+            ng: n,
+            ns: n,
+            uv: Vec2::new(phi / TAU, theta / PI),
+            dp_du: lin * Vec3::new(-q.y, q.x, 0.0) * TAU,
+            dp_dv: lin * dv * PI,
+        }
+    }
+
+    /// The outward unit normal at (or near) `p`, whatever `flip`.
+    #[inline]
+    fn normal_out(&self, p: Vec3) -> Vec3 {
+        (p - self.center).try_normalize().unwrap_or(Vec3::Z)
+    }
+
     /// The bounding box.
     pub fn bounds(&self) -> Aabb {
         Aabb { min: self.center - Vec3::splat(self.radius), max: self.center + Vec3::splat(self.radius) }
@@ -68,16 +116,21 @@ impl Sphere {
         }
     }
 
-    /// The outward unit normal at (or near) `p`.
+    /// The unit normal at (or near) `p`: outwards, or inwards when flipped.
     #[inline]
     pub fn normal(&self, p: Vec3) -> Vec3 {
-        (p - self.center).try_normalize().unwrap_or(Vec3::Z)
+        let n = self.normal_out(p);
+        if self.flip {
+            -n
+        } else {
+            n
+        }
     }
 
     /// `p` moved onto the surface along the normal (removes the rounding of o + t·d).
     #[inline]
     pub fn reproject(&self, p: Vec3) -> Vec3 {
-        self.center + self.normal(p) * self.radius
+        self.center + self.normal_out(p) * self.radius
     }
 
     /// A point on the sphere for reference point `r`: from outside, uniform over the
@@ -87,10 +140,9 @@ impl Sphere {
         let dist2 = dc.length_squared();
         let r2 = self.radius * self.radius;
         if dist2 <= r2 * (1.0 + 1e-4) {
-            let n = uniform_sphere(u);
-            let p = self.center + n * self.radius;
-            let pdf = area_to_solid_angle(1.0 / self.area(), r, p, n)?;
-            return Some(ShapeSample { p, n, pdf });
+            let s = self.surface(self.center + uniform_sphere(u) * self.radius);
+            let pdf = area_to_solid_angle(1.0 / self.area(), r, s.p, s.ng)?;
+            return Some(ShapeSample { p: s.p, n: s.ng, ns: s.ns, uv: s.uv, pdf });
         }
         let dist = dist2.sqrt();
         // cos θmax from sin²θmax = r²/d², computed without cancellation near 1.
@@ -101,8 +153,8 @@ impl Sphere {
         let d = Frame::from_normal(w).to_world(local);
         // Nearest intersection; at the rim, rounding may miss: take the closest approach.
         let t = self.intersect(r, d, f32::INFINITY).unwrap_or_else(|| dc.dot(d));
-        let p = self.reproject(r + d * t);
-        Some(ShapeSample { p, n: self.normal(p), pdf: cone_pdf(sin2, cos_max) })
+        let s = self.surface(r + d * t);
+        Some(ShapeSample { p: s.p, n: s.ng, ns: s.ns, uv: s.uv, pdf: cone_pdf(sin2, cos_max) })
     }
 
     /// Solid-angle density of `sample` from `r` producing the point `p`.
@@ -110,7 +162,7 @@ impl Sphere {
         let dist2 = (self.center - r).length_squared();
         let r2 = self.radius * self.radius;
         if dist2 <= r2 * (1.0 + 1e-4) {
-            return area_to_solid_angle(1.0 / self.area(), r, p, self.normal(p)).unwrap_or(0.0);
+            return area_to_solid_angle(1.0 / self.area(), r, p, self.normal_out(p)).unwrap_or(0.0);
         }
         let sin2 = r2 / dist2;
         cone_pdf(sin2, (1.0 - sin2).max(0.0).sqrt())
@@ -122,6 +174,16 @@ impl Sphere {
 fn cone_pdf(sin2: f32, cos_max: f32) -> f32 {
     let one_minus_cos = sin2 / (1.0 + cos_max);
     1.0 / (2.0 * PI * one_minus_cos).max(f32::MIN_POSITIVE)
+}
+
+/// θ of a unit vector from +z, accurate at both poles (Mitsuba's `unit_angle_z`).
+#[inline]
+fn unit_angle_z(v: Vec3) -> f32 {
+    if v.z >= 0.0 {
+        2.0 * (0.5 * (v - Vec3::Z).length()).min(1.0).asin()
+    } else {
+        PI - 2.0 * (0.5 * (v + Vec3::Z).length()).min(1.0).asin()
+    }
 }
 
 /// Converts an area density at `p` (normal `n`) to solid angle at `r`: pdf·dist²/|cos|.
@@ -141,13 +203,13 @@ mod tests {
 
     #[test]
     fn intersections_from_outside_inside_and_far_away() {
-        let s = Sphere { center: Vec3::new(0.0, 0.0, -5.0), radius: 1.0 };
+        let s = Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0);
         assert!((s.intersect(Vec3::ZERO, -Vec3::Z, 100.0).unwrap() - 4.0).abs() < 1e-6);
         assert!((s.intersect(Vec3::new(0.0, 0.0, -5.0), -Vec3::Z, 100.0).unwrap() - 1.0).abs() < 1e-6);
         assert!(s.intersect(Vec3::ZERO, Vec3::Z, 100.0).is_none());
         assert!(s.intersect(Vec3::ZERO, -Vec3::Z, 3.9).is_none());
         // 10^4 radii away the naive discriminant loses all digits; this form keeps them.
-        let far = Sphere { center: Vec3::new(0.0, 0.0, -1e4), radius: 1.0 };
+        let far = Sphere::new(Vec3::new(0.0, 0.0, -1e4), 1.0);
         let t = far.intersect(Vec3::new(0.5, 0.0, 0.0), -Vec3::Z, f32::INFINITY).unwrap();
         let p = Vec3::new(0.5, 0.0, -t);
         assert!(((p - far.center).length() - 1.0).abs() < 2e-3, "{t}");
@@ -155,7 +217,7 @@ mod tests {
 
     #[test]
     fn cone_samples_hit_the_sphere_and_pdf_integrates_to_one() {
-        let s = Sphere { center: Vec3::new(1.0, 2.0, 3.0), radius: 0.5 };
+        let s = Sphere::new(Vec3::new(1.0, 2.0, 3.0), 0.5);
         let r = Vec3::new(0.0, 0.0, -1.0);
         let mut rng = crate::sampler::Sampler::new(1, 2, 3);
         for _ in 0..1000 {

@@ -1,409 +1,385 @@
-//! `<bsdf>`: Mitsuba 3's reflection plugins mapped onto gonio's models, and gonio's own
-//! models by their `gonio models` names with their own parameter names.
+//! `<bsdf>`: Mitsuba 3's plugins as gonio models, and gonio's own models by their
+//! `gonio models` names with their own parameter names.
 //!
-//! | Mitsuba | gonio |
-//! |---|---|
-//! | `diffuse` (reflectance) | `lambert` (albedo) |
-//! | `conductor` (material, eta, k, specular_reflectance) | `mirror` with a conductor Fresnel term (`material="none"`: no Fresnel, R = 1) |
-//! | `roughconductor` (distribution, alpha, alpha_u/v, material, eta, k) | `microfacet`, Smith separable shadowing (Mitsuba's G1·G1) |
-//! | `roughplastic` (distribution, alpha, int_ior, ext_ior, diffuse/specular_reflectance, nonlinear) | `roughplastic`, the same model and names |
-//! | `plastic` (int_ior, ext_ior, diffuse/specular_reflectance, nonlinear) | `plastic`, the same model and names |
-//! | `dielectric` (int_ior, ext_ior, specular_reflectance/transmittance) | `dielectric`, the same model and names |
-//! | `roughdielectric` (distribution, alpha, alpha_u/v, int_ior, ext_ior, specular_reflectance/transmittance) | `roughdielectric`, the same model and names |
-//! | `twosided` (one or two nested bsdfs) | `brdf::two_sided::TwoSided` around them (see below) |
+//! A Mitsuba plugin whose names or defaults differ from its gonio model's is a row of
+//! [`ROWS`]: the model, the renamed parameters, Mitsuba's defaults where they differ, the values
+//! Mitsuba fixes, the properties read and ignored. Every other plugin has a model of its own
+//! name and parameters (`plastic`, `roughplastic`, `dielectric`, `roughdielectric`,
+//! `thindielectric`, `principled`, `principledthin`, `null`). Values stay typed: a `<float>`
+//! is a number, an `<rgb>` a colour, a `<spectrum>` its RGB reduction for what the parameter
+//! describes (a reflectance, or an unbounded constant such as η), a `<texture>` or `<ref>` a
+//! texture; every range is the model's `ParamSpec`, and a texture is accepted only where the
+//! `ParamSpec` says the parameter may vary.
 //!
-//! `roughplastic`, `plastic`, `dielectric` and `roughdielectric` are Mitsuba's models
-//! reproduced in `brdf`; named indices of refraction (`<string name="int_ior" value="bk7"/>`)
-//! become their numbers here. `sample_visible` is accepted and ignored: gonio always samples
-//! visible normals, which changes the noise, not the expected image.
-//!
-//! gonio's surfaces, like Mitsuba's, reflect from their front side only; a back face is
-//! black. `twosided` makes the nested model act on both sides, mirrored on the back (or the
-//! second nested model on the back when two are given), as in Mitsuba. A transmitting model
-//! already has two sides, and `twosided` refuses one, as Mitsuba does.
+//! The wrappers are materials around materials: `twosided` (one model on both sides, or two),
+//! `mask` (opacity), `blendbsdf` (weight, two models), `normalmap` and `bumpmap`.
 
 use super::error::XmlError;
-use super::parse::{plugin, Ctx, Plugin, Val};
-use brdf::{Brdf, ParamError, ParamKind};
-use roxmltree::Node;
-use std::collections::HashMap;
+use super::parse::{plugin, Plugin, Val};
+use super::texture;
+use super::tree::Elem;
+use super::Loader;
+use crate::material::{Material, Textured};
+use crate::scene::SurfaceInteraction;
+use crate::texture::Texture;
+use brdf::{ModelSpec, ParamError, ParamKind, ParamSpec, Params, Value};
+use glam::{Vec2, Vec3};
+use radiometry::cie::SpectrumUse;
+use radiometry::{Frame, Rgb};
 use std::sync::Arc;
 
-/// The Mitsuba BSDF types this loader maps.
-pub const MITSUBA_TYPES: &[&str] =
-    &["diffuse", "conductor", "roughconductor", "plastic", "roughplastic", "dielectric", "roughdielectric", "twosided"];
+/// A Mitsuba plugin over a gonio model whose names or defaults differ.
+pub struct Row {
+    /// Mitsuba's plugin name.
+    pub mitsuba: &'static str,
+    /// The gonio model.
+    pub model: &'static str,
+    /// (Mitsuba's name, gonio's name) of renamed parameters.
+    pub renamed: &'static [(&'static str, &'static str)],
+    /// Mitsuba's defaults where they differ from gonio's (gonio names, as text).
+    pub defaults: &'static [(&'static str, &'static str)],
+    /// Values Mitsuba fixes (gonio names): the file cannot give them.
+    pub fixed: &'static [(&'static str, &'static str)],
+    /// Mitsuba properties read and ignored: they change the noise, not the image.
+    pub ignored: &'static [&'static str],
+}
 
-/// Mitsuba types gonio does not have yet.
-const UNSUPPORTED: &[&str] = &["thindielectric", "blendbsdf", "mask", "bumpmap", "normalmap", "polarizer"];
-
-/// Named indices of refraction Mitsuba accepts for `int_ior`/`ext_ior` (its `ior.h` table).
-const IORS: &[(&str, f64)] = &[
-    ("vacuum", 1.0),
-    ("helium", 1.000036),
-    ("hydrogen", 1.000132),
-    ("air", 1.000277),
-    ("carbon dioxide", 1.00045),
-    ("water", 1.333),
-    ("acetone", 1.36),
-    ("ethanol", 1.361),
-    ("carbon tetrachloride", 1.461),
-    ("glycerol", 1.4729),
-    ("benzene", 1.501),
-    ("silicone oil", 1.52045),
-    ("bromine", 1.661),
-    ("water ice", 1.31),
-    ("fused quartz", 1.458),
-    ("pyrex", 1.47),
-    ("acrylic glass", 1.49),
-    ("polypropylene", 1.49),
-    ("bk7", 1.5046),
-    ("sodium chloride", 1.544),
-    ("amber", 1.55),
-    ("pet", 1.575),
-    ("diamond", 2.419),
+/// The plugins whose model differs in names or defaults.
+pub const ROWS: &[Row] = &[
+    Row {
+        mitsuba: "diffuse",
+        model: "lambert",
+        renamed: &[("reflectance", "albedo")],
+        defaults: &[("albedo", "0.5")],
+        fixed: &[],
+        ignored: &[],
+    },
+    Row {
+        mitsuba: "conductor",
+        model: "mirror",
+        renamed: &[("specular_reflectance", "reflectance")],
+        defaults: &[("material", "none")],
+        fixed: &[("fresnel", "conductor")],
+        ignored: &[],
+    },
+    Row {
+        mitsuba: "roughconductor",
+        model: "microfacet",
+        renamed: &[("specular_reflectance", "reflectance")],
+        defaults: &[("distribution", "beckmann"), ("alpha", "0.1"), ("material", "none")],
+        // Mitsuba's rough conductors take G1(wi) G1(wo).
+        fixed: &[("fresnel", "conductor"), ("shadowing", "smith-separable"), ("diffuse", "0")],
+        ignored: &["sample_visible"],
+    },
+    Row {
+        mitsuba: "roughplastic",
+        model: "roughplastic",
+        renamed: &[],
+        defaults: &[],
+        fixed: &[],
+        ignored: &["sample_visible"],
+    },
+    Row {
+        mitsuba: "roughdielectric",
+        model: "roughdielectric",
+        renamed: &[],
+        defaults: &[],
+        fixed: &[],
+        ignored: &["sample_visible"],
+    },
 ];
 
-/// A loaded `<bsdf>`: the model, and the gonio name and parameters it was built from (the
-/// Phong integrator reads its coefficients from these).
-#[derive(Clone, Debug)]
-pub struct LoadedBsdf {
-    /// The model.
-    pub brdf: Arc<dyn Brdf>,
-    /// Its `gonio models` name.
-    pub model: String,
-    /// The (parameter, value) pairs it was built with.
-    pub args: Vec<(String, String)>,
+/// Mitsuba's wrappers, built here around nested materials.
+pub const WRAPPERS: &[&str] = &["twosided", "mask", "blendbsdf", "normalmap", "bumpmap"];
+
+/// Mitsuba BSDFs gonio does not have.
+pub const UNSUPPORTED: &[&str] =
+    &["hair", "measured", "pplastic", "polarizer", "retarder", "circular", "measured_polarized"];
+
+/// The material of a `<bsdf>` element (or the object a `<ref>` names), built once per element.
+pub fn material(ld: &Loader, e: &Elem) -> Result<Material, XmlError> {
+    let e = ld.ids.deref(e)?;
+    let key = e as *const Elem;
+    if let Some(m) = ld.materials.borrow().get(&key) {
+        return Ok(m.clone());
+    }
+    if e.tag != "bsdf" {
+        return Err(e.err(format!("a <{}> stands where a <bsdf> is expected", e.tag)));
+    }
+    let m = build(ld, e)?;
+    ld.materials.borrow_mut().insert(key, m.clone());
+    Ok(m)
 }
 
-impl LoadedBsdf {
-    /// The pairs as `&str`s, as `brdf::build` takes them.
-    pub fn arg_refs(&self) -> Vec<(&str, &str)> {
-        self.args.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect()
+fn build(ld: &Loader, e: &Elem) -> Result<Material, XmlError> {
+    let p = plugin(&ld.ids, e, &["bsdf", "texture"])?;
+    let kind = p.kind.as_str();
+    if WRAPPERS.contains(&kind) {
+        return wrapper(ld, &p);
+    }
+    p.no_objects()?;
+    if let Some(row) = ROWS.iter().find(|r| r.mitsuba == kind) {
+        let spec = brdf::find(row.model).expect("every row names a registered model");
+        return model(ld, &p, spec, Some(row));
+    }
+    if UNSUPPORTED.contains(&kind) {
+        return Err(p.err(format!("Mitsuba's '{kind}' BSDF is not supported; {}", accepted())));
+    }
+    match brdf::find(kind) {
+        Ok(spec) if !is_wrapper_model(spec) => model(ld, &p, spec, None),
+        _ => Err(p.err(format!("unknown BSDF type '{kind}'; {}", accepted()))),
     }
 }
 
-/// Named `<bsdf id=...>`s defined at the top level.
-pub type Named = HashMap<String, LoadedBsdf>;
-
-/// One gonio parameter to pass: its name, its value as text, and the Mitsuba property it came
-/// from (so that an error from `ParamSpec` points at that line).
-struct Arg {
-    ours: &'static str,
-    text: String,
-    from: Option<String>,
+/// The registry's own wrapper models take their nested models as text (for `gonio check`); in a
+/// scene file the Mitsuba wrapper of that name is meant.
+fn is_wrapper_model(spec: &ModelSpec) -> bool {
+    (spec.params)().iter().any(|p| p.kind == ParamKind::Model)
 }
 
-fn arg(ours: &'static str, text: impl Into<String>, from: Option<&str>) -> Arg {
-    Arg { ours, text: text.into(), from: from.map(str::to_string) }
+/// The accepted types, for errors.
+fn accepted() -> String {
+    let mut mitsuba: Vec<&str> = ROWS.iter().map(|r| r.mitsuba).chain(WRAPPERS.iter().copied()).collect();
+    let ours: Vec<&str> = brdf::models().iter().filter(|m| !is_wrapper_model(m)).map(|m| m.name).collect();
+    mitsuba.extend(
+        ours.iter().filter(|n| {
+            ["plastic", "dielectric", "thindielectric", "principled", "principledthin", "null"].contains(n)
+        }),
+    );
+    format!("accepted: Mitsuba's {}, and gonio's models {}", mitsuba.join(", "), ours.join(", "))
 }
 
-/// Builds gonio model `model` from `args`, turning a `ParamError` into an error at the
-/// property that gave the bad value.
-fn build(ctx: &Ctx, p: &Plugin, model: &str, args: &[Arg]) -> Result<LoadedBsdf, XmlError> {
-    let pairs: Vec<(&str, &str)> = args.iter().map(|a| (a.ours, a.text.as_str())).collect();
-    let loaded = |b: Box<dyn Brdf>| LoadedBsdf {
-        brdf: Arc::from(b),
-        model: model.to_string(),
-        args: args.iter().map(|a| (a.ours.to_string(), a.text.clone())).collect(),
+/// What a colour parameter describes, for a `<spectrum>`'s reduction.
+fn usage(s: &ParamSpec) -> SpectrumUse {
+    match s.kind {
+        ParamKind::Rgb { max, .. } if max <= 1.0 => SpectrumUse::Reflectance,
+        _ => SpectrumUse::Unbounded,
+    }
+}
+
+/// A property's value as parameter `s` takes it.
+fn value(s: &ParamSpec, prop: &super::parse::Prop, e: &Elem) -> Result<Value, XmlError> {
+    let wrong = |what: &str| prop.elem.err(format!("property '{}' must be given as {what}", prop.name));
+    Ok(match (&s.kind, &prop.val) {
+        (ParamKind::Float { .. }, Val::Float(v)) => Value::Float(*v),
+        (ParamKind::Float { .. }, Val::Int(v)) => Value::Float(*v as f64),
+        (ParamKind::Float { .. }, Val::Spectrum(super::parse::Spectrum::Uniform(v))) => Value::Float(*v),
+        (ParamKind::Float { .. }, Val::Str(t)) if !s.names.is_empty() => {
+            s.parse(t).map_err(|err| prop.elem.err(err.to_string()))?
+        }
+        (ParamKind::Float { .. }, _) => {
+            return Err(wrong(if s.names.is_empty() { "<float>" } else { "a <float> or a <string> name" }))
+        }
+        (ParamKind::Rgb { .. }, Val::Float(v)) => Value::Float(*v),
+        (ParamKind::Rgb { .. }, Val::Int(v)) => Value::Float(*v as f64),
+        (ParamKind::Rgb { .. }, Val::Rgb(c)) => Value::Rgb(*c),
+        (ParamKind::Rgb { .. }, Val::Spectrum(sp)) => Value::Rgb(sp.rgb(usage(s))),
+        (ParamKind::Rgb { .. }, _) => return Err(wrong("<rgb>, <spectrum>, <float> or a texture")),
+        (ParamKind::Choice(_), Val::Str(t)) => Value::Choice(t.clone()),
+        (ParamKind::Choice(opts), _) => return Err(wrong(&format!("a <string>, one of {}", opts.join("|")))),
+        (ParamKind::Bool, Val::Bool(b)) => Value::Bool(*b),
+        (ParamKind::Bool, _) => return Err(wrong("<boolean>")),
+        (ParamKind::Path, Val::Str(t)) => Value::Path(e.path(t).to_string_lossy().into_owned()),
+        (ParamKind::Path, _) => return Err(wrong("a <string> file name")),
+        (ParamKind::Model, _) => return Err(wrong("a nested <bsdf> of a wrapper")),
+    })
+}
+
+/// A model from a plugin element, `row` giving Mitsuba's names and defaults.
+fn model(ld: &Loader, p: &Plugin, spec: &'static ModelSpec, row: Option<&Row>) -> Result<Material, XmlError> {
+    let empty = Row { mitsuba: "", model: "", renamed: &[], defaults: &[], fixed: &[], ignored: &[] };
+    let row = row.unwrap_or(&empty);
+    let ours = |written: &str| -> String {
+        row.renamed.iter().find(|(m, _)| *m == written).map_or(written, |(_, o)| *o).to_string()
     };
-    brdf::build(model, &pairs).map(loaded).map_err(|e| {
+    let theirs = |ours: &'static str| row.renamed.iter().find(|(_, o)| *o == ours).map_or(ours, |(m, _)| *m);
+    let specs: Vec<ParamSpec> = (spec.params)()
+        .into_iter()
+        .map(|s| match row.defaults.iter().find(|(n, _)| *n == s.name) {
+            Some((_, text)) => {
+                let d = s.parse(text).expect("a row's default is valid for its model");
+                s.with_default(d)
+            }
+            None => s,
+        })
+        .collect();
+    let mut accepted: Vec<&str> =
+        specs.iter().filter(|s| !row.fixed.iter().any(|(n, _)| *n == s.name)).map(|s| theirs(s.name)).collect();
+    accepted.extend(row.ignored);
+    p.allow(&accepted)?;
+    let mut values: Vec<(&str, Value)> = Vec::new();
+    let mut textures = Vec::new();
+    for prop in &p.props {
+        if row.ignored.contains(&prop.name.as_str()) {
+            continue;
+        }
+        let name = ours(&prop.name);
+        let s = specs.iter().find(|s| s.name == name).expect("allow() checked the name");
+        match prop.val {
+            Val::Object(obj) => {
+                if !s.varies {
+                    return Err(prop.elem.err(format!(
+                        "parameter '{}' of '{}' cannot be a texture: it is constant over a surface",
+                        prop.name, spec.name
+                    )));
+                }
+                textures.push((s.clone(), texture::object(ld, obj, usage(s))?));
+            }
+            _ => values.push((s.name, value(s, prop, p.elem)?)),
+        }
+    }
+    for (n, text) in row.fixed {
+        let s = specs.iter().find(|s| s.name == *n).expect("a row fixes a parameter of its model");
+        values.push((s.name, s.parse(text).expect("a row's fixed value is valid")));
+    }
+    let at = |e: ParamError| {
         let name = match &e {
-            ParamError::BadValue { name, .. } | ParamError::UnknownParam { name, .. } => Some(name.as_str()),
+            ParamError::BadValue { name, .. } | ParamError::UnknownParam { name, .. } => Some(theirs_of(row, name)),
             _ => None,
         };
-        let from = name.and_then(|n| args.iter().find(|a| a.ours == n)).and_then(|a| a.from.as_deref());
-        match from {
-            Some(prop) => p.err_at(ctx, prop, format!("{e} (gonio model '{model}')")),
-            None => p.err(ctx, format!("{e} (gonio model '{model}')")),
-        }
-    })
+        let where_ = name.and_then(|n| p.get(&n)).map_or(p.elem, |prop| prop.elem);
+        where_.err(format!("{e} (gonio model '{}')", spec.name))
+    };
+    let params = Params::from_values(spec.name, &specs, &values).map_err(at)?;
+    if textures.is_empty() {
+        return Ok(Material::Fixed(Arc::from(spec.build_from(&params).map_err(at)?)));
+    }
+    let t = Textured::new(spec, params, textures).map_err(|m| p.err(format!("{m} (gonio model '{}')", spec.name)))?;
+    Ok(Material::Textured(Arc::new(t)))
 }
 
-/// A colour property as `ParamSpec` text ("r,g,b"), or `default` when absent.
-fn rgb_text(ctx: &Ctx, p: &Plugin, name: &str, default: &str) -> Result<String, XmlError> {
-    Ok(match p.get(name) {
-        None => default.to_string(),
-        Some(prop) => match &prop.val {
-            Val::Rgb(_) | Val::Float(_) | Val::Int(_) => prop.text(),
-            _ => {
-                return Err(p.err_at(
-                    ctx,
-                    name,
-                    format!("property '{name}' must be given as <rgb>, <spectrum> or <float>"),
-                ))
-            }
-        },
-    })
+/// The Mitsuba name of gonio parameter `ours` under `row`.
+fn theirs_of(row: &Row, ours: &str) -> String {
+    row.renamed.iter().find(|(_, o)| *o == ours).map_or(ours, |(m, _)| *m).to_string()
 }
 
-/// An index of refraction: a number or one of Mitsuba's names.
-fn ior(ctx: &Ctx, p: &Plugin, name: &str, default: f64) -> Result<f64, XmlError> {
-    match p.get(name).map(|x| &x.val) {
-        None => Ok(default),
-        Some(Val::Float(v)) if *v > 0.0 => Ok(*v),
-        Some(Val::Str(s)) => IORS.iter().find(|(n, _)| n.eq_ignore_ascii_case(s)).map(|x| x.1).ok_or_else(|| {
-            let names: Vec<&str> = IORS.iter().map(|x| x.0).collect();
-            p.err_at(
-                ctx,
-                name,
-                format!("unknown material '{s}' for '{name}'; give a number > 0 or one of: {}", names.join(", ")),
-            )
-        }),
-        Some(_) => {
-            Err(p.err_at(ctx, name, format!("property '{name}' must be a <float> > 0 or a <string> material name")))
-        }
+/// The nested `<bsdf>`s of a wrapper, in file order.
+fn nested<'t>(p: &Plugin<'t>) -> Vec<&'t Elem> {
+    let named = p.props.iter().filter_map(|q| match q.val {
+        Val::Object(e) if e.tag == "bsdf" => Some((q.elem.src.pos, e)),
+        _ => None,
+    });
+    let mut all: Vec<_> = p.objects.iter().filter(|e| e.tag == "bsdf").map(|e| (e.src.pos, *e)).chain(named).collect();
+    all.sort_by_key(|(pos, _)| (pos.line, pos.col));
+    all.into_iter().map(|(_, e)| e).collect()
+}
+
+/// One nested `<bsdf>`, exactly.
+fn one_nested(ld: &Loader, p: &Plugin) -> Result<Box<Material>, XmlError> {
+    match nested(p).as_slice() {
+        [one] => Ok(Box::new(material(ld, one)?)),
+        other => Err(p.err(format!("{} takes exactly one nested <bsdf>, not {}", p.kind, other.len()))),
     }
 }
 
-/// Fails unless property `name` is absent or equal to `expected` (a value gonio has no
-/// counterpart for).
-fn only_default(ctx: &Ctx, p: &Plugin, name: &str, ok: impl Fn(&Val) -> bool, why: &str) -> Result<(), XmlError> {
-    match p.get(name) {
-        Some(prop) if !ok(&prop.val) => Err(p.err_at(ctx, name, format!("property '{name}': {why}"))),
-        _ => Ok(()),
+/// A one-number texture property (`opacity`, `weight`), with `default` when absent.
+fn scalar(ld: &Loader, p: &Plugin, name: &str, default: Option<f32>) -> Result<Texture, XmlError> {
+    if p.get(name).is_none() {
+        return default
+            .map(|d| Texture::Constant(Rgb::splat(d)))
+            .ok_or_else(|| p.err(format!("missing property '{name}' (a <float> or a texture)")));
+    }
+    texture::color(ld, p, name, Rgb::ZERO, SpectrumUse::Reflectance)
+}
+
+/// A surface point for load-time checks of a material's model.
+fn probe() -> SurfaceInteraction {
+    SurfaceInteraction {
+        t: 1.0,
+        p: Vec3::ZERO,
+        ng: Vec3::Z,
+        frame: Frame::IDENTITY,
+        uv: Vec2::splat(0.5),
+        dp_du: Vec3::X,
+        dp_dv: Vec3::Y,
+        shape: 0,
     }
 }
 
-fn is_one(v: &Val) -> bool {
-    match v {
-        Val::Float(x) => *x == 1.0,
-        Val::Int(x) => *x == 1,
-        Val::Rgb(c) => c.iter().all(|x| *x == 1.0),
-        _ => false,
-    }
-}
-
-/// The `material`, `eta`, `k` of a conductor as gonio `fresnel`/`material`/`eta`/`k` args.
-fn conductor_args(ctx: &Ctx, p: &Plugin) -> Result<Vec<Arg>, XmlError> {
-    let material = p.string(ctx, "material")?;
-    let has_eta_k = p.get("eta").is_some() || p.get("k").is_some();
-    match material {
-        Some(m) if has_eta_k => {
-            Err(p.err_at(ctx, "material", format!("material '{m}' sets eta and k; give either material or eta and k")))
-        }
-        Some(m) if m != "none" => {
-            let ours = brdf::fresnel::MATERIALS.iter().filter(|n| **n != "custom").copied().collect::<Vec<_>>();
-            let name = ours.iter().find(|n| n.eq_ignore_ascii_case(m)).ok_or_else(|| {
-                p.err_at(ctx, "material", format!("unknown material '{m}'; accepted: none, {}", ours.join(", ")))
-            })?;
-            Ok(vec![arg("fresnel", "conductor", None), arg("material", *name, Some("material"))])
-        }
-        _ if has_eta_k => {
-            if p.get("eta").is_none() || p.get("k").is_none() {
-                return Err(p.err(ctx, "give both 'eta' and 'k' for a custom conductor (or a 'material')"));
-            }
-            Ok(vec![
-                arg("fresnel", "conductor", None),
-                arg("eta", rgb_text(ctx, p, "eta", "")?, Some("eta")),
-                arg("k", rgb_text(ctx, p, "k", "")?, Some("k")),
-            ])
-        }
-        // Mitsuba's default material "none" is a perfect reflector.
-        _ => Ok(vec![arg("fresnel", "none", None)]),
-    }
-}
-
-/// The `distribution`, `alpha`, `alpha_u`, `alpha_v` of a rough Mitsuba BSDF.
-fn roughness_args(ctx: &Ctx, p: &Plugin) -> Result<Vec<Arg>, XmlError> {
-    let dist = p.string(ctx, "distribution")?.unwrap_or("beckmann");
-    if !["beckmann", "ggx"].contains(&dist) {
-        return Err(p.err_at(ctx, "distribution", format!("distribution '{dist}' is not one of beckmann|ggx")));
-    }
-    let mut v = vec![arg("distribution", dist, Some("distribution")), arg("shadowing", "smith-separable", None)];
-    match (p.get("alpha_u"), p.get("alpha_v")) {
-        (None, None) => v.push(arg("alpha", p.float(ctx, "alpha", 0.1)?.to_string(), Some("alpha"))),
-        (Some(_), Some(_)) => {
-            if p.get("alpha").is_some() {
-                return Err(p.err_at(ctx, "alpha", "give either 'alpha' or 'alpha_u' and 'alpha_v'"));
-            }
-            v.push(arg("alpha_u", p.float(ctx, "alpha_u", 0.1)?.to_string(), Some("alpha_u")));
-            v.push(arg("alpha_v", p.float(ctx, "alpha_v", 0.1)?.to_string(), Some("alpha_v")));
-        }
-        _ => return Err(p.err(ctx, "give both 'alpha_u' and 'alpha_v' for an anisotropic surface")),
-    }
-    Ok(v)
-}
-
-/// Builds the model of a `<bsdf>` element.
-pub fn load(ctx: &Ctx, node: Node, named: &Named) -> Result<LoadedBsdf, XmlError> {
-    let p = plugin(ctx, node, &["bsdf", "ref"])?;
-    let kind = p.kind.as_str();
-    if kind != "twosided" {
-        p.allow_children(ctx, &[])?;
-    }
-    match kind {
+fn wrapper(ld: &Loader, p: &Plugin) -> Result<Material, XmlError> {
+    let flags = |p: &Plugin| -> Result<(bool, bool), XmlError> {
+        Ok((p.bool("flip_invalid_normals", true)?, p.bool("use_shadowing_function", true)?))
+    };
+    match p.kind.as_str() {
         "twosided" => {
-            p.allow(ctx, &[])?;
-            let (front, back) = match p.children.as_slice() {
+            p.allow(&[])?;
+            let bsdfs = nested(p);
+            let (front, back) = match bsdfs.as_slice() {
                 [one] => {
-                    let b = nested(ctx, *one, named)?;
-                    (b.clone(), b)
+                    let m = material(ld, one)?;
+                    (m.clone(), m)
                 }
-                [front, back] => (nested(ctx, *front, named)?, nested(ctx, *back, named)?),
-                _ => return Err(p.err(ctx, "twosided takes one nested <bsdf> or <ref> (or two: front, back)")),
+                [front, back] => (material(ld, front)?, material(ld, back)?),
+                _ => return Err(p.err("twosided takes one nested <bsdf> or <ref> (or two: front, back)")),
             };
-            let two = brdf::two_sided::TwoSided::new(front.brdf.clone(), back.brdf.clone())
-                .map_err(|e| p.err(ctx, format!("{e}; nested: {} / {}", front.model, back.model)))?;
-            // The front's name and parameters stay: the Phong integrator reads its coefficients.
-            Ok(LoadedBsdf { brdf: Arc::new(two), ..front })
-        }
-        "dielectric" | "roughdielectric" => {
-            let rough = kind == "roughdielectric";
-            let mut names = vec!["int_ior", "ext_ior", "specular_reflectance", "specular_transmittance"];
-            if rough {
-                names.extend(["distribution", "alpha", "alpha_u", "alpha_v", "sample_visible"]);
+            for (m, e) in [(&front, bsdfs[0]), (&back, *bsdfs.last().expect("one or two"))] {
+                if m.with(&probe(), |b| b.transmits()) {
+                    return Err(e.err(
+                        "twosided takes only models without transmission (Mitsuba's rule; glass, masks and \
+                         null surfaces already have two sides: put twosided inside the mask)",
+                    ));
+                }
             }
-            p.allow(ctx, &names)?;
-            let mut args = vec![
-                arg(
-                    "int_ior",
-                    ior(ctx, &p, "int_ior", brdf::dielectric::DEFAULT_INT_IOR)?.to_string(),
-                    Some("int_ior"),
-                ),
-                arg(
-                    "ext_ior",
-                    ior(ctx, &p, "ext_ior", brdf::dielectric::DEFAULT_EXT_IOR)?.to_string(),
-                    Some("ext_ior"),
-                ),
-                arg(
-                    "specular_reflectance",
-                    rgb_text(ctx, &p, "specular_reflectance", "1")?,
-                    Some("specular_reflectance"),
-                ),
-                arg(
-                    "specular_transmittance",
-                    rgb_text(ctx, &p, "specular_transmittance", "1")?,
-                    Some("specular_transmittance"),
-                ),
-            ];
-            if rough {
-                p.bool(ctx, "sample_visible", true)?;
-                args.extend(roughness_args(ctx, &p)?.into_iter().filter(|a| a.ours != "shadowing"));
-            }
-            build(ctx, &p, kind, &args)
+            Ok(Material::TwoSided(Box::new(front), Box::new(back)))
         }
-        "diffuse" => {
-            p.allow(ctx, &["reflectance"])?;
-            build(ctx, &p, "lambert", &[arg("albedo", rgb_text(ctx, &p, "reflectance", "0.5")?, Some("reflectance"))])
+        "mask" => {
+            p.allow(&["opacity"])?;
+            Ok(Material::Mask { opacity: scalar(ld, p, "opacity", Some(0.5))?, nested: one_nested(ld, p)? })
         }
-        "conductor" => {
-            p.allow(ctx, &["material", "eta", "k", "specular_reflectance"])?;
-            let mut args = conductor_args(ctx, &p)?;
-            args.push(arg(
-                "reflectance",
-                rgb_text(ctx, &p, "specular_reflectance", "1")?,
-                Some("specular_reflectance"),
-            ));
-            build(ctx, &p, "mirror", &args)
+        "blendbsdf" => {
+            p.allow(&["weight"])?;
+            let bsdfs = nested(p);
+            let [first, second] = bsdfs.as_slice() else {
+                return Err(p.err(format!("blendbsdf takes exactly two nested <bsdf>s, not {}", bsdfs.len())));
+            };
+            Ok(Material::Blend {
+                weight: scalar(ld, p, "weight", None)?,
+                first: Box::new(material(ld, first)?),
+                second: Box::new(material(ld, second)?),
+            })
         }
-        "roughconductor" => {
-            p.allow(
-                ctx,
-                &[
-                    "distribution",
-                    "alpha",
-                    "alpha_u",
-                    "alpha_v",
-                    "material",
-                    "eta",
-                    "k",
-                    "specular_reflectance",
-                    "sample_visible",
-                ],
-            )?;
-            only_default(
-                ctx,
-                &p,
-                "specular_reflectance",
-                is_one,
-                "only 1 is supported (gonio's microfacet has no tint)",
-            )?;
-            p.bool(ctx, "sample_visible", true)?;
-            let mut args = roughness_args(ctx, &p)?;
-            args.extend(conductor_args(ctx, &p)?);
-            build(ctx, &p, "microfacet", &args)
+        "normalmap" => {
+            p.allow(&["normalmap", "flip_invalid_normals", "use_shadowing_function"])?;
+            let map = p.object("normalmap").ok_or_else(|| p.err("missing the texture 'normalmap'"))?;
+            let (flip_invalid, shadowing) = flags(p)?;
+            Ok(Material::NormalMap {
+                map: texture::object(ld, map, SpectrumUse::Unbounded)?,
+                flip_invalid,
+                shadowing,
+                nested: one_nested(ld, p)?,
+            })
         }
-        "plastic" | "roughplastic" => {
-            let rough = kind == "roughplastic";
-            let mut names = vec!["int_ior", "ext_ior", "diffuse_reflectance", "specular_reflectance", "nonlinear"];
-            if rough {
-                names.extend(["distribution", "alpha", "sample_visible"]);
-            }
-            p.allow(ctx, &names)?;
-            p.bool(ctx, "sample_visible", true)?;
-            let mut args = vec![
-                arg("int_ior", ior(ctx, &p, "int_ior", 1.49)?.to_string(), Some("int_ior")),
-                arg("ext_ior", ior(ctx, &p, "ext_ior", 1.000277)?.to_string(), Some("ext_ior")),
-                arg(
-                    "diffuse_reflectance",
-                    rgb_text(ctx, &p, "diffuse_reflectance", "0.5")?,
-                    Some("diffuse_reflectance"),
-                ),
-                arg(
-                    "specular_reflectance",
-                    rgb_text(ctx, &p, "specular_reflectance", "1")?,
-                    Some("specular_reflectance"),
-                ),
-                arg("nonlinear", p.bool(ctx, "nonlinear", false)?.to_string(), Some("nonlinear")),
-            ];
-            if rough {
-                let dist = p.string(ctx, "distribution")?.unwrap_or("beckmann");
-                args.push(arg("distribution", dist, Some("distribution")));
-                args.push(arg("alpha", p.float(ctx, "alpha", 0.1)?.to_string(), Some("alpha")));
-            }
-            build(ctx, &p, kind, &args)
+        "bumpmap" => {
+            let textures: Vec<&Elem> = p
+                .objects
+                .iter()
+                .copied()
+                .chain(p.props.iter().filter_map(|q| match q.val {
+                    Val::Object(e) if e.tag == "texture" => Some(e),
+                    _ => None,
+                }))
+                .filter(|e| e.tag == "texture")
+                .collect();
+            let names: Vec<&str> = p
+                .props
+                .iter()
+                .filter(|q| matches!(q.val, Val::Object(e) if e.tag == "texture"))
+                .map(|q| q.name.as_str())
+                .chain(["scale", "flip_invalid_normals", "use_shadowing_function"])
+                .collect();
+            p.allow(&names)?;
+            let [height] = textures.as_slice() else {
+                return Err(p.err(format!("bumpmap takes exactly one nested <texture>, not {}", textures.len())));
+            };
+            let (flip_invalid, shadowing) = flags(p)?;
+            Ok(Material::BumpMap {
+                height: texture::object(ld, height, SpectrumUse::Unbounded)?,
+                scale: p.float("scale", 1.0)? as f32,
+                flip_invalid,
+                shadowing,
+                nested: one_nested(ld, p)?,
+            })
         }
-        t if UNSUPPORTED.contains(&t) => Err(p.err(
-            ctx,
-            format!(
-                "bsdf type '{t}' (blending, masks, textures or thin sheets) is not supported yet; accepted: {}",
-                accepted()
-            ),
-        )),
-        t => match brdf::find(t) {
-            Ok(spec) => gonio_model(ctx, &p, spec),
-            Err(_) => Err(p.err(ctx, format!("unknown bsdf type '{t}'; accepted: {}", accepted()))),
-        },
+        _ => unreachable!("WRAPPERS lists the kinds handled here"),
     }
-}
-
-/// Every accepted `type`, Mitsuba's then gonio's.
-fn accepted() -> String {
-    let ours: Vec<&str> = brdf::models().iter().map(|m| m.name).collect();
-    format!("{} (Mitsuba), {} (gonio models)", MITSUBA_TYPES.join(", "), ours.join(", "))
-}
-
-/// A gonio model with its own parameter names; paths resolve against the scene file.
-fn gonio_model(ctx: &Ctx, p: &Plugin, spec: &brdf::ModelSpec) -> Result<LoadedBsdf, XmlError> {
-    let specs = (spec.params)();
-    let names: Vec<&str> = specs.iter().map(|s| s.name).collect();
-    p.allow(ctx, &names)?;
-    let mut args = Vec::new();
-    for prop in &p.props {
-        let s = specs.iter().find(|s| s.name == prop.name).expect("allow() checked the name");
-        let text = match (&s.kind, &prop.val) {
-            (ParamKind::Path, Val::Str(path)) => ctx.path(path).to_string_lossy().into_owned(),
-            (_, Val::Transform(_)) | (_, Val::Vec(_)) => {
-                return Err(ctx.err(prop.node, format!("parameter '{}' takes {}", s.name, s.range_text())))
-            }
-            _ => prop.text(),
-        };
-        args.push(arg(s.name, text, Some(s.name)));
-    }
-    build(ctx, p, spec.name, &args)
-}
-
-/// A `<bsdf>` or a `<ref id="...">` to a named one.
-pub fn nested(ctx: &Ctx, node: Node, named: &Named) -> Result<LoadedBsdf, XmlError> {
-    if node.tag_name().name() == "ref" {
-        ctx.check_attrs(node, &["id", "name"])?;
-        let id = ctx.req_attr(node, "id")?;
-        return named.get(&id).cloned().ok_or_else(|| {
-            let mut ids: Vec<&str> = named.keys().map(String::as_str).collect();
-            ids.sort_unstable();
-            let list = if ids.is_empty() { "(none)".to_string() } else { ids.join(", ") };
-            ctx.err(node, format!("no <bsdf> with id '{id}'; the named bsdfs are: {list}"))
-        });
-    }
-    load(ctx, node, named)
 }

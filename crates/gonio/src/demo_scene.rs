@@ -5,17 +5,17 @@
 //!
 //! Also the one-object scenes `gonio compare` renders side by side.
 
-use crate::camera::{look_at, Camera, FovAxis};
-use crate::envmap_convert::Probe;
-use crate::error::{Error, Result};
-use crate::image::Image;
-use crate::integrator::Integrator;
-use crate::light::{ConstantEnv, EnvMap, Light, PointLight};
-use crate::scene::{Scene, SceneBuilder, Shape};
-use crate::shape::{Geometry, Rectangle, Sphere, TriangleMesh};
 use brdf::Brdf;
 use glam::{Mat4, Vec3};
 use radiometry::Rgb;
+use render::camera::{look_at, Camera, FovAxis};
+use render::envmap_convert::Probe;
+use render::error::{Error, Result};
+use render::image::Image;
+use render::integrator::Integrator;
+use render::light::{ConstantEnv, EnvMap, Light, PointLight};
+use render::scene::{Scene, SceneBuilder, Shape};
+use render::shape::{Geometry, Rectangle, Sphere, TriangleMesh};
 use std::f32::consts::FRAC_PI_2;
 use std::sync::Arc;
 
@@ -36,7 +36,7 @@ pub const DEMO_MODELS: &[(&str, &[(&str, &str)])] = &[
 
 /// The embedded probe as an image.
 pub fn probe_image() -> Result<Image> {
-    crate::io::hdr::parse_hdr(PROBE_HDR).map_err(|m| Error::Invalid(format!("embedded probe: {m}")))
+    render::io::hdr::parse_hdr(PROBE_HDR).map_err(|m| Error::Invalid(format!("embedded probe: {m}")))
 }
 
 /// The scale that brings a probe's upward irradiance H to π (so a white floor reads ≈ 1).
@@ -46,65 +46,13 @@ pub fn probe_scale(image: &Image) -> Result<f32> {
     Ok(if lum > 0.0 && lum.is_finite() { (std::f64::consts::PI / lum) as f32 } else { 1.0 })
 }
 
-/// Parses OBJ text (vertices and polygon faces, fan-triangulated; other lines ignored).
-pub fn parse_obj(text: &str) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
-    let mut positions = Vec::new();
-    let mut indices = Vec::new();
-    for (n, line) in text.lines().enumerate() {
-        let bad = || Error::Invalid(format!("OBJ line {}: cannot read '{line}'", n + 1));
-        let mut it = line.split_whitespace();
-        match it.next() {
-            Some("v") => {
-                let c: Vec<f32> = it.take(3).map(|t| t.parse().map_err(|_| bad())).collect::<Result<_>>()?;
-                if c.len() != 3 {
-                    return Err(bad());
-                }
-                positions.push(Vec3::new(c[0], c[1], c[2]));
-            }
-            Some("f") => {
-                let idx: Vec<u32> = it
-                    .map(|t| {
-                        let i: i64 = t.split('/').next().unwrap_or("").parse().map_err(|_| bad())?;
-                        // OBJ indices count from 1; negative ones count back from the last vertex.
-                        let i = if i < 0 { positions.len() as i64 + i } else { i - 1 };
-                        if i < 0 || i >= positions.len() as i64 {
-                            return Err(bad());
-                        }
-                        Ok(i as u32)
-                    })
-                    .collect::<Result<_>>()?;
-                if idx.len() < 3 {
-                    return Err(bad());
-                }
-                for k in 1..idx.len() - 1 {
-                    indices.push([idx[0], idx[k], idx[k + 1]]);
-                }
-            }
-            _ => {}
-        }
-    }
-    Ok((positions, indices))
-}
-
-/// Area-weighted vertex normals: the sum of the unnormalised face normals around each vertex.
-pub fn smooth_normals(positions: &[Vec3], indices: &[[u32; 3]]) -> Vec<Vec3> {
-    let mut n = vec![Vec3::ZERO; positions.len()];
-    for t in indices {
-        let [a, b, c] = t.map(|i| positions[i as usize]);
-        let face = (b - a).cross(c - a);
-        for &i in t {
-            n[i as usize] += face;
-        }
-    }
-    n.into_iter().map(|v| v.try_normalize().unwrap_or(Vec3::Y)).collect()
-}
-
 /// Suzanne with smooth normals, in her file's frame (+Y up, facing +Z, about 2.7 wide).
 pub fn suzanne() -> Result<TriangleMesh> {
-    let text = std::str::from_utf8(SUZANNE_OBJ).map_err(|_| Error::Invalid("embedded OBJ is not UTF-8".into()))?;
-    let (positions, indices) = parse_obj(text)?;
-    let normals = smooth_normals(&positions, &indices);
-    TriangleMesh::new(positions, Some(normals), indices)
+    let mut m = render::io::obj::parse_obj(SUZANNE_OBJ, false, true)
+        .map_err(|e| Error::Invalid(format!("embedded Suzanne: {e}")))?;
+    m.normals = None;
+    m.compute_vertex_normals();
+    Ok(m)
 }
 
 fn model(name: &str, params: &[(&str, &str)]) -> Result<Arc<dyn Brdf>> {
@@ -113,11 +61,6 @@ fn model(name: &str, params: &[(&str, &str)]) -> Result<Arc<dyn Brdf>> {
 
 fn env_light(image: &Image) -> Result<Light> {
     Ok(Light::EnvMap(Box::new(EnvMap::new(image, probe_scale(image)?)?)))
-}
-
-/// The demo scene at `width` × `height` pixels, lit by the probe.
-pub fn demo_scene(width: u32, height: u32) -> Result<Scene> {
-    demo_scene_lit(width, height, false)
 }
 
 /// The demo scene; `phong_lights` swaps the probe for what the Phong model knows: two point
@@ -142,7 +85,7 @@ pub fn demo_scene_lit(width: u32, height: u32, phong_lights: bool) -> Result<Sce
     let (r, gap) = (0.45f32, 1.12f32);
     for (k, (name, params)) in DEMO_MODELS.iter().enumerate() {
         let x = (k as f32 - 0.5 * (DEMO_MODELS.len() - 1) as f32) * gap;
-        let ball = Sphere { center: Vec3::new(x, r, 1.3), radius: r };
+        let ball = Sphere::new(Vec3::new(x, r, 1.3), r);
         b.shape_with_model(Geometry::Sphere(ball), name, params)?;
     }
     if phong_lights {
@@ -158,7 +101,7 @@ pub fn demo_scene_lit(width: u32, height: u32, phong_lights: bool) -> Result<Sce
 
 /// The estimator the demo uses: paths of up to 5 vertices (3 bounces), roulette from 3.
 pub fn demo_integrator() -> Integrator {
-    Integrator::Path { max_depth: 5, rr_depth: 3 }
+    Integrator::path(5, 3)
 }
 
 /// One object in model `brdf` under `env` (the embedded probe when None), seen from +Z at
@@ -173,7 +116,7 @@ pub fn object_scene(
     let to_world = look_at(Vec3::new(0.0, 0.6, 4.4), Vec3::ZERO, Vec3::Y).expect("the view is not degenerate");
     let mut b = SceneBuilder::new(Camera::new(to_world, 32.0, FovAxis::Smaller, width, height));
     let geometry = match mesh {
-        None => Geometry::Sphere(Sphere { center: Vec3::ZERO, radius: 1.0 }),
+        None => Geometry::Sphere(Sphere::new(Vec3::ZERO, 1.0)),
         Some(m) => {
             let mut m = m.clone();
             let (lo, hi) = m
@@ -206,7 +149,7 @@ pub fn build_model(name: &str, params: &[(&str, &str)]) -> Result<Arc<dyn Brdf>>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::renderer::{render, RenderOptions};
+    use render::{render, RenderOptions};
 
     #[test]
     fn embedded_assets_load() {
@@ -216,14 +159,11 @@ mod tests {
         assert_eq!((p.width, p.height), (512, 256));
         let s = probe_scale(&p).unwrap();
         assert!(s > 0.0 && s.is_finite());
-        assert!(parse_obj("v 0 0 0\nf 1 2 3\n").is_err());
-        let (_, idx) = parse_obj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1/1 2/2 3/3 -1/4\n").unwrap();
-        assert_eq!(idx, vec![[0, 1, 2], [0, 2, 3]]);
     }
 
     #[test]
     fn demo_renders_finite_and_lit() {
-        let scene = demo_scene(32, 18).unwrap();
+        let scene = demo_scene_lit(32, 18, false).unwrap();
         let img =
             render(&scene, &RenderOptions { spp: 2, integrator: demo_integrator(), ..Default::default() }, |_| {});
         assert!(img.pixels.iter().all(|p| p.is_finite()));
