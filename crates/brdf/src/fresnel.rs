@@ -22,6 +22,7 @@ use crate::params::{ParamError, ParamSource, ParamSpec};
 use glam::Vec3A;
 use radiometry::Rgb;
 
+mod metals;
 #[cfg(test)]
 mod spectral;
 
@@ -209,9 +210,10 @@ pub const AL: Metal = Metal {
 /// Every named conductor.
 pub const METALS: [Metal; 4] = [AU, AG, CU, AL];
 
-/// The named conductor `name` (case-insensitive), if there is one.
+/// The named conductor `name` (case-insensitive), if there is one: Au, Ag, Cu, Al, or any of
+/// Mitsuba's other named conductors (`metals.rs`).
 pub fn metal(name: &str) -> Option<Metal> {
-    METALS.iter().copied().find(|m| m.name.eq_ignore_ascii_case(name))
+    METALS.iter().chain(metals::MORE_METALS).copied().find(|m| m.name.eq_ignore_ascii_case(name))
 }
 
 /// A Fresnel term: how much of the light reaching a microfacet it reflects.
@@ -249,8 +251,8 @@ impl Fresnel {
 /// The `fresnel` modes, as the parameter lists them.
 pub const MODES: &[&str] = &["none", "schlick", "dielectric", "conductor"];
 /// The `material` choices: `custom` (use `eta` and `k`), `none` (a perfect reflector, F = 1,
-/// Mitsuba's default conductor) and the named metals.
-pub const MATERIALS: &[&str] = &["custom", "none", "Au", "Ag", "Cu", "Al"];
+/// Mitsuba's default conductor) and the named conductors.
+pub use metals::MATERIALS;
 
 /// Default `eta` when the default mode is not `conductor`: crown glass.
 pub const DEFAULT_DIELECTRIC_ETA: f32 = 1.5;
@@ -586,5 +588,14 @@ mod tests {
         assert!(ag.min_channel() > 0.85 && ag.max_channel() - ag.min_channel() < 0.1, "{ag:?}");
         assert!(al.min_channel() > 0.85 && al.max_channel() - al.min_channel() < 0.05, "{al:?}");
         assert_eq!(metal("ag"), Some(AG));
+        // Every named choice is a conductor with finite constants (Mitsuba's names, case-insensitive).
+        for name in MATERIALS.iter().filter(|n| !["custom", "none"].contains(n)) {
+            let m = metal(name).unwrap_or_else(|| panic!("{name}"));
+            assert!(m.eta.is_finite() && m.k.is_finite() && m.k.min_channel() >= 0.0, "{name}");
+        }
+        // Chromium is grey and strongly absorbing: R0 ≈ 0.55–0.65 in every channel.
+        let cr = metal("cr").unwrap();
+        let r0 = conductor_rgb(1.0, cr.eta, cr.k);
+        assert!(r0.min_channel() > 0.5 && r0.max_channel() < 0.7, "{r0:?}");
     }
 }

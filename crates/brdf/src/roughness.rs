@@ -3,9 +3,10 @@
 
 use crate::params::{ParamError, ParamSource, ParamSpec};
 
-/// Smallest accepted roughness: lobes stay resolvable by f32 directions; a smoother surface
-/// is better described as a mirror.
-pub const ALPHA_MIN: f64 = 0.001;
+/// Smallest accepted roughness, Mitsuba 3's floor: a texture that reads 0 gives this, and a
+/// rough surface that smooth renders as Mitsuba renders it (lobes stay resolvable by f32
+/// directions, 6e-8 rad apart).
+pub const ALPHA_MIN: f64 = 1e-4;
 
 /// The `alpha`, `alpha_u`, `alpha_v` parameter descriptions, with `alpha`'s default and doc.
 pub fn params(default_alpha: f64, alpha_doc: &'static str) -> Vec<ParamSpec> {

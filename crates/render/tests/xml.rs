@@ -466,7 +466,7 @@ fn bad_values() {
             <float name="alpha" value="5"/>
         </bsdf></shape>"#,
     );
-    expect_error(&t, "name=\"alpha\"", "<float name=\"alpha\">", &["'alpha'", "[0.001, 1]"]);
+    expect_error(&t, "name=\"alpha\"", "<float name=\"alpha\">", &["'alpha'", "[0.0001, 1]"]);
     let t = scene(r#"<shape type="sphere"><bsdf type="ward"><string name="ks" value="red"/></bsdf></shape>"#);
     expect_error(&t, "name=\"ks\"", "<string name=\"ks\">", &["'ks'", "<rgb>"]);
     let t = scene(

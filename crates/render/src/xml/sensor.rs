@@ -193,7 +193,7 @@ pub fn load(ld: &Loader, e: &Elem) -> Result<Sensor, XmlError> {
     if !TYPES.contains(&kind) {
         return Err(p.err(format!("unsupported sensor type '{kind}'; accepted: {}", TYPES.join(", "))));
     }
-    let mut names = vec!["near_clip", "far_clip", "to_world", "shutter_open", "shutter_close"];
+    let mut names = vec!["near_clip", "far_clip", "to_world", "shutter_open", "shutter_close", "focus_distance"];
     match kind {
         "perspective" => {
             names.extend(["fov", "fov_axis", "focal_length", "principal_point_offset_x", "principal_point_offset_y"])

@@ -351,6 +351,9 @@ fn upgrade(e: &mut Elem) {
             *v = snake_case(v);
         }
     }
+    for c in &mut e.children {
+        upgrade(c);
+    }
     if e.tag == "bsdf" && e.attr("type") == Some("diffuse") {
         for c in &mut e.children {
             for (k, v) in &mut c.attrs {
@@ -385,9 +388,6 @@ fn upgrade(e: &mut Elem) {
             ],
             src: src.clone(),
         });
-    }
-    for c in &mut e.children {
-        upgrade(c);
     }
 }
 
