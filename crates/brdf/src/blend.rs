@@ -9,7 +9,7 @@
 //! black: 0.38 instead of 0.5 under uniform light), which gonio keeps so that scenes render as
 //! in Mitsuba. Source: Mitsuba 3, `src/bsdfs/blendbsdf.cpp` (behaviour only).
 
-use crate::model::{Brdf, BrdfSample, Claims};
+use crate::model::{BoxedBrdf, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSource, ParamSpec};
 use crate::registry::{by_value, ModelSpec};
 use radiometry::{Rgb, Vec2, Vec3};
@@ -45,7 +45,7 @@ impl<A: Brdf, B: Brdf> Brdf for Blend<A, B> {
         let (rho_j, pdf_j) = if second { self.first.eval_pdf(s.wi, wo) } else { self.second.eval_pdf(s.wi, wo) };
         let p_j = 1.0 - p_k;
         let pdf = p_k * s.pdf + p_j * pdf_j;
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let value = s.weight * (p_k * s.pdf) + rho_j * (p_j * s.wi.z.abs());
@@ -90,7 +90,7 @@ fn params() -> Vec<ParamSpec> {
     ]
 }
 
-fn make(p: &dyn ParamSource) -> Result<Blend<Box<dyn Brdf>, Box<dyn Brdf>>, ParamError> {
+fn make(p: &dyn ParamSource) -> Result<Blend<BoxedBrdf, BoxedBrdf>, ParamError> {
     Ok(Blend {
         weight: p.float("weight"),
         first: crate::registry::build_item(p.model("bsdf_0"))?,

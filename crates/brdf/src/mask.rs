@@ -73,7 +73,7 @@ fn params() -> Vec<ParamSpec> {
     ]
 }
 
-fn make(p: &dyn ParamSource) -> Result<Mask<Box<dyn Brdf>>, ParamError> {
+fn make(p: &dyn ParamSource) -> Result<Mask<crate::model::BoxedBrdf>, ParamError> {
     Ok(Mask { opacity: p.float("opacity"), nested: crate::registry::build_item(p.model("bsdf"))? })
 }
 
@@ -88,6 +88,7 @@ pub const SPEC: ModelSpec = ModelSpec {
 };
 
 #[cfg(test)]
+#[allow(clippy::excessive_precision)] // Mitsuba's reference numbers, as it prints them
 mod tests {
     use super::*;
     use crate::lambert::Lambert;

@@ -106,6 +106,9 @@ pub trait Brdf: Send + Sync + std::fmt::Debug {
     }
 }
 
+/// A model of any kind, owned.
+pub type BoxedBrdf = Box<dyn Brdf>;
+
 /// Forwards every method to the pointee: a model behind a `Box`, an `Arc` or a reference is
 /// the same model.
 macro_rules! forward_brdf {

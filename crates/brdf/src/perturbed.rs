@@ -157,7 +157,7 @@ fn bumpmap_params() -> Vec<ParamSpec> {
     v
 }
 
-fn perturbed(p: &dyn ParamSource, normal: Vec3) -> Result<Perturbed<Box<dyn Brdf>>, ParamError> {
+fn perturbed(p: &dyn ParamSource, normal: Vec3) -> Result<Perturbed<crate::model::BoxedBrdf>, ParamError> {
     Ok(Perturbed {
         normal,
         tangent: Vec3::X,
@@ -167,7 +167,7 @@ fn perturbed(p: &dyn ParamSource, normal: Vec3) -> Result<Perturbed<Box<dyn Brdf
     })
 }
 
-fn make_normalmap(p: &dyn ParamSource) -> Result<Perturbed<Box<dyn Brdf>>, ParamError> {
+fn make_normalmap(p: &dyn ParamSource) -> Result<Perturbed<crate::model::BoxedBrdf>, ParamError> {
     let n = normal_from_texel(p.rgb("normal"));
     if n.length_squared() < 1e-12 {
         return Err(ParamError::Inconsistent("parameter 'normal': 0.5,0.5,0.5 is no direction".into()));
@@ -175,7 +175,7 @@ fn make_normalmap(p: &dyn ParamSource) -> Result<Perturbed<Box<dyn Brdf>>, Param
     perturbed(p, n)
 }
 
-fn make_bumpmap(p: &dyn ParamSource) -> Result<Perturbed<Box<dyn Brdf>>, ParamError> {
+fn make_bumpmap(p: &dyn ParamSource) -> Result<Perturbed<crate::model::BoxedBrdf>, ParamError> {
     // ∂p/∂u' = x + h_u z and ∂p/∂v' = y + h_v z: the normal of their plane.
     perturbed(p, Vec3::new(-p.float("slope_u"), -p.float("slope_v"), 1.0))
 }

@@ -4,14 +4,21 @@
 use crate::params::{ParamError, ParamSource, ParamSpec, Params};
 use crate::Brdf;
 
+/// Builds a model on the heap.
+pub type OwnedBuild = fn(&dyn ParamSource) -> Result<Box<dyn Brdf>, ParamError>;
+/// Builds a model on the stack and hands it to a continuation.
+pub type ScopedBuild = fn(&dyn ParamSource, &mut dyn FnMut(&dyn Brdf)) -> Result<(), ParamError>;
+/// A model named in text: its entry and its (parameter, value) pairs.
+pub type Item = (&'static ModelSpec, Vec<(String, String)>);
+
 /// How a model is built from its parameters.
 #[derive(Clone, Copy)]
 pub struct Build {
     /// On the heap: a constant material, a model named on the command line.
-    pub owned: fn(&dyn ParamSource) -> Result<Box<dyn Brdf>, ParamError>,
+    pub owned: OwnedBuild,
     /// On the stack, handed to `f`: a textured material at one surface point, which must not
     /// allocate.
-    pub scoped: fn(&dyn ParamSource, &mut dyn FnMut(&dyn Brdf)) -> Result<(), ParamError>,
+    pub scoped: ScopedBuild,
 }
 
 /// The [`Build`] of a model whose function `$make(&dyn ParamSource) -> Result<M, ParamError>`
@@ -129,7 +136,7 @@ pub fn build(name: &str, given: &[(&str, &str)]) -> Result<Box<dyn Brdf>, ParamE
 
 /// Splits a model written `NAME[:PARAM=VALUE]...` (`ward:alpha=0.1:ks=0.3`) into its entry and
 /// its pairs; names are checked here, values when it is built.
-pub fn parse_item(item: &str) -> Result<(&'static ModelSpec, Vec<(String, String)>), ParamError> {
+pub fn parse_item(item: &str) -> Result<Item, ParamError> {
     let mut parts = item.split(':');
     let name = parts.next().unwrap_or_default().trim();
     let bad = |what: String| {

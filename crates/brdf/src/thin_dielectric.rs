@@ -92,6 +92,7 @@ pub const SPEC: ModelSpec = ModelSpec {
 };
 
 #[cfg(test)]
+#[allow(clippy::excessive_precision)] // Mitsuba's reference numbers, as it prints them
 mod tests {
     use super::*;
 

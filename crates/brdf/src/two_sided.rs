@@ -10,7 +10,7 @@
 //! models, which only reflect. Like Mitsuba, a model that transmits cannot be nested (its two
 //! sides are already defined). Source: Mitsuba 3, `src/bsdfs/twosided.cpp` (behaviour only).
 
-use crate::model::{Brdf, BrdfSample, Claims, PhongTerms};
+use crate::model::{BoxedBrdf, Brdf, BrdfSample, Claims, PhongTerms};
 use crate::params::{ParamError, ParamSource, ParamSpec};
 use crate::registry::{build_item, by_value, ModelSpec};
 use radiometry::{Rgb, Vec2, Vec3};
@@ -115,7 +115,7 @@ fn params() -> Vec<ParamSpec> {
     ]
 }
 
-fn make(p: &dyn ParamSource) -> Result<TwoSided<Box<dyn Brdf>, Box<dyn Brdf>>, ParamError> {
+fn make(p: &dyn ParamSource) -> Result<TwoSided<BoxedBrdf, BoxedBrdf>, ParamError> {
     let back = if p.model("back").is_empty() { p.model("bsdf") } else { p.model("back") };
     TwoSided::new(build_item(p.model("bsdf"))?, build_item(back)?)
         .map_err(|e| ParamError::Inconsistent(format!("parameters 'bsdf' and 'back': {e}")))

@@ -77,7 +77,7 @@ pub const LAMBDA_MAX: f64 = 830.0;
 
 /// Σ ȳ(w_i) · 470/1000 over the sum's wavelengths: the luminance of a unit spectrum before
 /// normalisation (Mitsuba's `MI_CIE_Y_NORMALIZATION` is its inverse).
-const Y_INTEGRAL: f64 = 106.7502593994140625;
+const Y_INTEGRAL: f64 = 106.75025939941406;
 /// D65 scaled so that Σ D65·ȳ matches Σ ȳ (Mitsuba's `MI_CIE_D65_NORMALIZATION` inverse).
 const D65_SCALE: f64 = 98.99741751876255;
 /// Samples of the sum.

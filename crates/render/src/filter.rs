@@ -104,7 +104,7 @@ impl Filter {
 }
 
 /// The windowed Gaussian, tabulated for sampling.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, PartialEq)]
 pub struct Gaussian {
     /// Standard deviation in pixels.
     pub stddev: f32,
@@ -113,6 +113,12 @@ pub struct Gaussian {
     table: Distribution1D,
     /// ∫ f over [−r, r].
     integral: f64,
+}
+
+impl std::fmt::Debug for Gaussian {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Gaussian").field("stddev", &self.stddev).field("radius", &self.radius).finish()
+    }
 }
 
 impl Gaussian {
@@ -167,6 +173,7 @@ impl Gaussian {
 }
 
 #[cfg(test)]
+#[allow(clippy::excessive_precision)] // Mitsuba's reference numbers, as it prints them
 mod tests {
     use super::*;
 

@@ -165,8 +165,11 @@ impl Reader<'_> {
     }
 }
 
+/// One mesh to write: positions, optional normals and uvs, triangles.
+pub type MeshRef<'a> = (&'a [Vec3], Option<&'a [Vec3]>, Option<&'a [Vec2]>, &'a [[u32; 3]]);
+
 /// Writes meshes in the version-4 format (for tests and tools): positions, normals, uvs, f32.
-pub fn write(meshes: &[(&[Vec3], Option<&[Vec3]>, Option<&[Vec2]>, &[[u32; 3]])]) -> Vec<u8> {
+pub fn write(meshes: &[MeshRef]) -> Vec<u8> {
     use std::io::Write;
     let mut out = Vec::new();
     let mut offsets = Vec::new();
@@ -197,6 +200,7 @@ pub fn write(meshes: &[(&[Vec3], Option<&[Vec3]>, Option<&[Vec2]>, &[[u32; 3]])]
 }
 
 #[cfg(test)]
+#[allow(clippy::excessive_precision)] // Mitsuba's reference numbers, as it prints them
 mod tests {
     use super::*;
 

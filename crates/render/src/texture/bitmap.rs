@@ -339,6 +339,7 @@ fn at_least_two<T: Copy>(
 }
 
 #[cfg(test)]
+#[allow(clippy::excessive_precision)] // Mitsuba's reference numbers, as it prints them
 mod tests {
     use super::*;
 
@@ -360,7 +361,8 @@ mod tests {
         use FilterType::*;
         use WrapMode::*;
         // Reference values: Mitsuba 3.9.1 scalar_rgb, texture.eval at the given uv.
-        let cases: &[(FilterType, WrapMode, bool, (f32, f32), [f32; 3])] = &[
+        type Case = (FilterType, WrapMode, bool, (f32, f32), [f32; 3]);
+        let cases: &[Case] = &[
             (Nearest, Repeat, false, (0.1, 0.1), [0.0030352699, 0.006995399, 0.01298306]),
             (Nearest, Repeat, false, (0.9, 0.9), [0.95597327, 0.0, 0.21586041]),
             (Nearest, Repeat, false, (-0.1, 0.1), [0.57758075, 0.64447987, 0.71569359]),

@@ -141,11 +141,10 @@ fn load(text: &str, file: &Path, base: &Path, defines: &[(String, String)]) -> R
     for e in &root.children {
         let target = ld.ids.deref(e)?;
         match target.tag.as_str() {
-            "shape" if target.attr("type") == Some("shapegroup") => {
-                if e.tag == "ref" {
-                    return Err(e.err("a shapegroup is placed by an <instance>, not referenced from the scene"));
-                }
+            "shape" if target.attr("type") == Some("shapegroup") && e.tag == "ref" => {
+                return Err(e.err("a shapegroup is placed by an <instance>, not referenced from the scene"));
             }
+            "shape" if target.attr("type") == Some("shapegroup") => {}
             "shape" => {
                 for s in shape::load(&ld, target, &Mat4::IDENTITY, false)? {
                     builder.shape(s);

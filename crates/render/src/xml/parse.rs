@@ -221,7 +221,8 @@ pub fn plugin<'t>(ids: &Ids<'t>, e: &'t Elem, nested: &[&str]) -> Result<Plugin<
                 accepted.join(", ")
             )));
         };
-        if !nested.contains(&target.tag.as_str()) && !(target.tag == "spectrum" && nested.contains(&"texture")) {
+        let takes = nested.contains(&target.tag.as_str()) || (target.tag == "spectrum" && nested.contains(&"texture"));
+        if !takes {
             let list = if nested.is_empty() { "(none)".to_string() } else { nested.join(", ") };
             return Err(child.err(format!(
                 "{} cannot hold a <{}>; the objects it takes: {list}",

@@ -204,10 +204,10 @@ pub fn load(ld: &Loader, e: &Elem) -> Result<Sensor, XmlError> {
     p.allow(&names)?;
     let near = p.float("near_clip", 0.01)?;
     let far = p.float("far_clip", 1e4)?;
-    if !(near > 0.0) {
+    if near.is_nan() || near <= 0.0 {
         return Err(p.err_at("near_clip", format!("near_clip = {near}; it must be > 0")));
     }
-    if !(far > near) {
+    if far.is_nan() || far <= near {
         return Err(p.err_at("far_clip", format!("far_clip {far} must exceed near_clip {near}")));
     }
     p.float("shutter_open", 0.0)?;
@@ -250,7 +250,7 @@ pub fn load(ld: &Loader, e: &Elem) -> Result<Sensor, XmlError> {
                 return Err(r.elem.err(format!("aperture_radius = {radius}; expected ≥ 0")));
             }
             let focus = p.float("focus_distance", far)?;
-            if !(focus > 0.0) {
+            if focus.is_nan() || focus <= 0.0 {
                 return Err(p.err_at("focus_distance", format!("focus_distance = {focus}; expected > 0")));
             }
             Projection::ThinLens {

@@ -113,7 +113,7 @@ fn geometry(p: &Plugin, parent: &Mat4) -> Result<Geometry, XmlError> {
         "sphere" => {
             p.allow(&["center", "radius", "flip_normals", "to_world"])?;
             let radius = p.float("radius", 1.0)? as f32;
-            if !(radius > 0.0) {
+            if radius.is_nan() || radius <= 0.0 {
                 return Err(p.err_at("radius", format!("radius {radius} must be > 0")));
             }
             let center = p.vec3("center")?.unwrap_or(Vec3::ZERO);

@@ -130,7 +130,7 @@ fn spectrum_plugin(ld: &Loader, e: &Elem, usage: SpectrumUse) -> Result<Texture,
             p.allow(&["wavelength_min", "wavelength_max", "values"])?;
             let (lo, hi) = (p.float("wavelength_min", 360.0)?, p.float("wavelength_max", 830.0)?);
             let values = number_list(&p, "values")?;
-            if values.len() < 2 || !(hi > lo) {
+            if values.len() < 2 || hi.is_nan() || hi <= lo {
                 return Err(p.err("a regular spectrum needs wavelength_min < wavelength_max and two or more values"));
             }
             let n = values.len() - 1;

@@ -272,6 +272,7 @@ impl Reader {
         if !p.is_absolute() {
             candidates.extend(self.paths.iter().map(|d| d.join(p)));
             candidates.push(self.top.join(p));
+            candidates.dedup();
         }
         let Some(path) = candidates.iter().find(|c| c.is_file()).cloned() else {
             return Err(inc.err(format!(
