@@ -59,6 +59,21 @@ fn showcase_text(set: &[(&str, &str)]) -> String {
     set.iter().map(|(k, v)| format!("--{k} {v}")).collect::<Vec<_>>().join(" ")
 }
 
+/// The valid values for the table: a long choice list shortened (`--json` and the errors
+/// give it whole).
+fn range_column(p: &ParamSpec) -> String {
+    const SHOWN: usize = 8;
+    match &p.kind {
+        ParamKind::Choice(opts) if opts.len() > SHOWN => {
+            format!("one of {}|… ({} names)", opts[..SHOWN].join("|"), opts.len())
+        }
+        ParamKind::Float { min, max } if !p.names.is_empty() => {
+            format!("[{min}, {max}] or a name ({} names)", p.names.len())
+        }
+        _ => p.range_text(),
+    }
+}
+
 /// The claims at the defaults, or why the model would not build.
 fn default_claims(m: &ModelSpec) -> Result<brdf::Claims, String> {
     m.build_with(&[]).map(|b| b.claims()).map_err(|e| e.to_string())
@@ -104,14 +119,14 @@ pub fn run(args: &ModelsArgs) -> Result<()> {
             outln!("  parameters: none");
         }
         let name_w = params.iter().map(|p| p.name.len()).max().unwrap_or(0) + 2;
-        let range_w = params.iter().map(|p| p.range_text().chars().count()).max().unwrap_or(0);
+        let range_w = params.iter().map(|p| range_column(p).chars().count()).max().unwrap_or(0);
         let def_w = params.iter().map(|p| short(&p.default).chars().count()).max().unwrap_or(0);
         for p in &params {
             outln!(
                 "  {:<name_w$}  {:<6}  {:<range_w$}  default {:<def_w$}  {}",
                 format!("--{}", p.name),
                 kind_name(p),
-                p.range_text(),
+                range_column(p),
                 short(&p.default),
                 p.doc
             );

@@ -87,12 +87,11 @@ impl EnvMap {
         })
     }
 
-    /// The map turned by the rotation `r` (world = r · map direction). None when `r` is not
-    /// a rotation (orthonormal with determinant 1, to 1e-4): other maps would not keep the
-    /// density normalised.
+    /// The map turned by the rotation `r` (world = r · map direction), or mirrored by it. None
+    /// when `r` is not orthonormal (to 1e-4): other maps would not keep the density normalised.
     pub fn with_rotation(mut self, r: glam::Mat3) -> Option<Self> {
         let err = (r.transpose() * r - glam::Mat3::IDENTITY).to_cols_array().iter().fold(0.0f32, |a, x| a.max(x.abs()));
-        if !(err < 1e-4 && (r.determinant() - 1.0).abs() < 1e-4) {
+        if !(err < 1e-4 && (r.determinant().abs() - 1.0).abs() < 1e-4) {
             return None;
         }
         self.to_world = (r != glam::Mat3::IDENTITY).then_some(r);

@@ -101,7 +101,7 @@ pub fn load(ld: &Loader, e: &Elem) -> Result<Option<Light>, XmlError> {
             let env = EnvMap::new(&image, scale as f32).map_err(|err| p.err_at("filename", err.to_string()))?;
             let to_world = Mat3::from_mat4(p.transform("to_world")?);
             let env = env.with_rotation(to_world).ok_or_else(|| {
-                p.err_at("to_world", "an envmap's to_world must be a rotation (its translation is ignored)")
+                p.err_at("to_world", "an envmap's to_world may only rotate or mirror (its translation is ignored); a scale would distort the map")
             })?;
             Light::EnvMap(Box::new(env))
         }
