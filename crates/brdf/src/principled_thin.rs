@@ -351,35 +351,11 @@ pub const SPEC: ModelSpec = ModelSpec {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::principled::tests::{check_pair, check_sample_row, SampleRow};
+    use crate::principled::tests::{check_sample_row, check_table, SampleRow, Table};
 
     fn build(set: &[(&str, &str)]) -> Box<dyn Brdf> {
         SPEC.build_with(set).unwrap()
     }
-
-    const WIS: [[f32; 3]; 8] = [
-        [0.0, 0.6, 0.8],
-        [0.48, 0.6, 0.64],
-        [0.0, 0.0, 1.0],
-        [0.96, 0.0, 0.28],
-        [0.0, 0.6, 0.8],
-        [0.48, 0.6, 0.64],
-        [0.0, 0.6, -0.8],
-        [0.0, 0.6, -0.8],
-    ];
-    const WOS: [[f32; 3]; 8] = [
-        [0.6, 0.0, 0.8],
-        [-0.48, -0.6, 0.64],
-        [-0.36, 0.48, 0.8],
-        [-0.64, -0.48, 0.6],
-        [0.0, -0.6, -0.8],
-        [0.36, -0.48, -0.8],
-        [0.6, 0.0, -0.8],
-        [0.0, -0.6, 0.8],
-    ];
-
-    /// Mitsuba 3.9.1 (scalar_rgb, Radiance) at the eight pairs A–H: eval (with cos θo) and pdf.
-    type Table = [([f32; 3], f32); 8];
 
     const T1: Table = [
         ([0.12735; 3], 0.2546479),
@@ -449,11 +425,7 @@ mod tests {
         for (set, name, table) in
             [(&[][..], "T1 defaults", &T1), (T2_SET, "T2 spec_trans", &T2), (T3_SET, "T3", &T3), (T4_SET, "T4", &T4)]
         {
-            let b = build(set);
-            for (k, (eval, pdf)) in table.iter().enumerate() {
-                let label = format!("{name} pair {}", (b'A' + k as u8) as char);
-                check_pair(b.as_ref(), &label, WIS[k], WOS[k], *eval, *pdf);
-            }
+            check_table(build(set).as_ref(), name, table);
         }
     }
 

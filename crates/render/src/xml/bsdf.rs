@@ -3,9 +3,8 @@
 //!
 //! A Mitsuba plugin whose names or defaults differ from its gonio model's is a row of
 //! [`ROWS`]: the model, the renamed parameters, Mitsuba's defaults where they differ, the values
-//! Mitsuba fixes, the properties read and ignored. Every other plugin has a model of its own
-//! name and parameters (`plastic`, `roughplastic`, `dielectric`, `roughdielectric`,
-//! `thindielectric`, `principled`, `principledthin`, `null`). Values stay typed: a `<float>`
+//! Mitsuba fixes, the properties read and ignored. Every other plugin ([`SAME_NAME`]) has a
+//! model of its own name and parameters. Values stay typed: a `<float>`
 //! is a number, an `<rgb>` a colour, a `<spectrum>` its RGB reduction for what the parameter
 //! describes (a reflectance, or an unbounded constant such as η), a `<texture>` or `<ref>` a
 //! texture; every range is the model's `ParamSpec`, and a texture is accepted only where the
@@ -89,6 +88,18 @@ pub const ROWS: &[Row] = &[
     },
 ];
 
+/// Mitsuba plugins whose gonio model has their name and parameters.
+pub const SAME_NAME: &[&str] = &[
+    "plastic",
+    "roughplastic",
+    "dielectric",
+    "roughdielectric",
+    "thindielectric",
+    "principled",
+    "principledthin",
+    "null",
+];
+
 /// Mitsuba's wrappers, built here around nested materials.
 pub const WRAPPERS: &[&str] = &["twosided", "mask", "blendbsdf", "normalmap", "bumpmap"];
 
@@ -139,13 +150,9 @@ fn is_wrapper_model(spec: &ModelSpec) -> bool {
 
 /// The accepted types, for errors.
 fn accepted() -> String {
-    let mut mitsuba: Vec<&str> = ROWS.iter().map(|r| r.mitsuba).chain(WRAPPERS.iter().copied()).collect();
+    let rows = ROWS.iter().map(|r| r.mitsuba).filter(|n| !SAME_NAME.contains(n));
+    let mitsuba: Vec<&str> = rows.chain(SAME_NAME.iter().copied()).chain(WRAPPERS.iter().copied()).collect();
     let ours: Vec<&str> = brdf::models().iter().filter(|m| !is_wrapper_model(m)).map(|m| m.name).collect();
-    mitsuba.extend(
-        ours.iter().filter(|n| {
-            ["plastic", "dielectric", "thindielectric", "principled", "principledthin", "null"].contains(n)
-        }),
-    );
     format!("accepted: Mitsuba's {}, and gonio's models {}", mitsuba.join(", "), ours.join(", "))
 }
 
@@ -381,5 +388,23 @@ fn wrapper(ld: &Loader, p: &Plugin) -> Result<Material, XmlError> {
             })
         }
         _ => unreachable!("WRAPPERS lists the kinds handled here"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_plugin_named_here_has_its_model_and_none_is_also_refused() {
+        for r in ROWS {
+            assert!(brdf::find(r.model).is_ok(), "{}", r.model);
+        }
+        for n in SAME_NAME {
+            assert!(brdf::find(n).is_ok_and(|m| !is_wrapper_model(m)), "{n}");
+        }
+        for n in UNSUPPORTED {
+            assert!(!SAME_NAME.contains(n) && !WRAPPERS.contains(n) && ROWS.iter().all(|r| r.mitsuba != *n), "{n}");
+        }
     }
 }

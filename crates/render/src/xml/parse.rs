@@ -366,6 +366,16 @@ pub fn property(e: &Elem) -> Result<Prop<'_>, XmlError> {
 }
 
 impl<'t> Plugin<'t> {
+    /// Every nested object, unnamed ones first, then named ones (Mitsuba reads a named one as
+    /// its type's, whatever the name).
+    pub fn all_objects(&self) -> Vec<&'t Elem> {
+        let named = self.props.iter().filter_map(|q| match q.val {
+            Val::Object(o) => Some(o),
+            _ => None,
+        });
+        self.objects.iter().copied().chain(named).collect()
+    }
+
     /// Fails on a property not in `accepted`, listing the accepted names.
     pub fn allow(&self, accepted: &[&str]) -> Result<(), XmlError> {
         for p in &self.props {

@@ -157,16 +157,7 @@ pub fn load(ld: &Loader, e: &Elem, parent: &Mat4, in_group: bool) -> Result<Vec<
     }
     let mut material = None;
     let mut emission = None;
-    let objects: Vec<&Elem> = p
-        .objects
-        .iter()
-        .copied()
-        .chain(p.props.iter().filter_map(|q| match q.val {
-            Val::Object(o) => Some(o),
-            _ => None,
-        }))
-        .collect();
-    // Named objects are the shape's whatever their names (Mitsuba reads them so too).
+    let objects = p.all_objects();
     let rest = p.props.iter().filter(|q| !matches!(q.val, Val::Object(_))).cloned().collect::<Vec<_>>();
     for o in objects {
         match o.tag.as_str() {
@@ -206,15 +197,7 @@ fn instance(ld: &Loader, p: &Plugin, parent: &Mat4, in_group: bool) -> Result<Ve
     if in_group {
         return Err(p.err("an instance inside a shapegroup: nested instancing is not supported (nor by Mitsuba)"));
     }
-    let groups: Vec<&Elem> = p
-        .objects
-        .iter()
-        .copied()
-        .chain(p.props.iter().filter_map(|q| match q.val {
-            Val::Object(o) => Some(o),
-            _ => None,
-        }))
-        .collect();
+    let groups = p.all_objects();
     let accepted: Vec<&str> = p
         .props
         .iter()

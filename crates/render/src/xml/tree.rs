@@ -138,7 +138,7 @@ pub fn read(text: &str, file: &Path, dir: &Path, defines: &[(String, String)]) -
         top: dir.to_path_buf(),
         chain: vec![file.to_path_buf()],
     };
-    let root = r.document(text, file, dir, None)?;
+    let root = r.document(text, file, dir)?;
     if let Some(i) = r.used.iter().position(|u| !u) {
         return Err(XmlError::file(
             file,
@@ -157,7 +157,7 @@ fn version(text: &str) -> Option<(u32, u32, u32)> {
 
 impl Reader {
     /// One file's root element, read and converted.
-    fn document(&mut self, text: &str, file: &Path, dir: &Path, include: Option<&Elem>) -> Result<Elem, XmlError> {
+    fn document(&mut self, text: &str, file: &Path, dir: &Path) -> Result<Elem, XmlError> {
         let doc = roxmltree::Document::parse(text).map_err(|e| {
             let p = e.pos();
             XmlError {
@@ -169,11 +169,6 @@ impl Reader {
         })?;
         let root = doc.root_element();
         let file_arc = Arc::new(file.to_path_buf());
-        let here = |n: roxmltree::Node| Src {
-            file: file_arc.clone(),
-            pos: pos_at(text, n.range().start),
-            search: Arc::new(Vec::new()),
-        };
         let old = match root.attribute("version") {
             None => false,
             Some(v) => match version(v) {
@@ -181,14 +176,13 @@ impl Reader {
                 None => {
                     return Err(XmlError::at(
                         file,
-                        here(root).pos,
+                        pos_at(text, root.range().start),
                         format!("<{}>", root.tag_name().name()),
                         format!("version \"{v}\" is not a version number X.Y.Z, e.g. 3.0.0"),
                     ))
                 }
             },
         };
-        let _ = include;
         let mut e = self.element(root, text, &file_arc, dir, true)?;
         if old {
             upgrade(&mut e);
@@ -292,7 +286,7 @@ impl Reader {
             .map_err(|e| inc.err(format!("cannot read the included file \"{}\": {e}", path.display())))?;
         let sub_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         self.chain.push(path.clone());
-        let root = self.document(&text, &path, &sub_dir, Some(inc));
+        let root = self.document(&text, &path, &sub_dir);
         self.chain.pop();
         let mut root = root?;
         if root.tag == "scene" {
