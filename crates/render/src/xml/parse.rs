@@ -176,6 +176,15 @@ pub struct Plugin<'t> {
     pub objects: Vec<&'t Elem>,
 }
 
+/// A number as a reader wants it: large ones in exponent form.
+fn short(x: f64) -> String {
+    if x.abs() >= 1e7 {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
 /// Numbers separated by commas and/or whitespace.
 pub fn numbers(text: &str) -> Option<Vec<f64>> {
     text.split(|c: char| c == ',' || c.is_whitespace())
@@ -422,6 +431,7 @@ impl<'t> Plugin<'t> {
     pub fn float_in(&self, name: &str, default: f64, min: f64, max: f64) -> Result<f64, XmlError> {
         let v = self.float(name, default)?;
         if !(v >= min && v <= max) {
+            let (v, min, max) = (short(v), short(min), short(max));
             return Err(self.err_at(name, format!("property '{name}' = {v} is outside [{min}, {max}]")));
         }
         Ok(v)
