@@ -105,6 +105,10 @@ impl<G: Brdf> Brdf for DiffuseGlossy<G> {
         self.glossy.has_delta()
     }
 
+    fn fresnel(&self) -> Option<crate::fresnel::Fresnel> {
+        self.glossy.fresnel()
+    }
+
     fn phong_terms(&self) -> Option<PhongTerms> {
         let g = self.glossy.phong_terms()?;
         let Some(d) = &self.diffuse else { return Some(g) };

@@ -53,6 +53,10 @@ impl CookTorrance {
 }
 
 impl Brdf for CookTorrance {
+    fn fresnel(&self) -> Option<Fresnel> {
+        Some(self.fresnel)
+    }
+
     fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
         if !same_upper_hemisphere(wi, wo) {
             return Rgb::ZERO;

@@ -23,6 +23,7 @@
 //! parameter names and defaults.
 
 use crate::fresnel;
+use crate::fresnel::Fresnel;
 use crate::model::{reflect_z, refract, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSource, ParamSpec};
 use crate::registry::{by_value, ModelSpec};
@@ -51,6 +52,10 @@ pub fn eta_seen_from(eta: f32, cos: f32) -> f32 {
 }
 
 impl Brdf for Dielectric {
+    fn fresnel(&self) -> Option<Fresnel> {
+        Some(Fresnel::Dielectric { eta: self.eta })
+    }
+
     fn eval(&self, _wi: Vec3, _wo: Vec3) -> Rgb {
         Rgb::ZERO
     }

@@ -61,6 +61,10 @@ impl<N: Brdf> Brdf for Mask<N> {
         true
     }
 
+    fn fresnel(&self) -> Option<crate::fresnel::Fresnel> {
+        self.nested.fresnel()
+    }
+
     fn phong_terms(&self) -> Option<PhongTerms> {
         self.nested.phong_terms()
     }

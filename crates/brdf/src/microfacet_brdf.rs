@@ -79,6 +79,10 @@ impl MicrofacetBrdf {
 }
 
 impl Brdf for MicrofacetBrdf {
+    fn fresnel(&self) -> Option<Fresnel> {
+        Some(self.fresnel)
+    }
+
     fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
         if !same_upper_hemisphere(wi, wo) {
             return Rgb::ZERO;

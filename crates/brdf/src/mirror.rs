@@ -25,6 +25,10 @@ pub struct Mirror {
 }
 
 impl Brdf for Mirror {
+    fn fresnel(&self) -> Option<Fresnel> {
+        Some(self.fresnel)
+    }
+
     fn eval(&self, _wi: Vec3, _wo: Vec3) -> Rgb {
         Rgb::ZERO
     }

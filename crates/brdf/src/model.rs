@@ -99,6 +99,12 @@ pub trait Brdf: Send + Sync + std::fmt::Debug {
         1.0
     }
 
+    /// The Fresnel term of the model's specular interface, for models that have one (plots
+    /// of Rs, Rp and Schlick against the exact term use it).
+    fn fresnel(&self) -> Option<crate::fresnel::Fresnel> {
+        None
+    }
+
     /// The lecture's Phong coefficients, for models that are written in them (the `phong`
     /// integrator uses ρ·cos θ for the others).
     fn phong_terms(&self) -> Option<PhongTerms> {
@@ -144,6 +150,9 @@ macro_rules! forward_brdf {
             }
             fn eta(&self) -> f32 {
                 (**self).eta()
+            }
+            fn fresnel(&self) -> Option<crate::fresnel::Fresnel> {
+                (**self).fresnel()
             }
             fn phong_terms(&self) -> Option<PhongTerms> {
                 (**self).phong_terms()

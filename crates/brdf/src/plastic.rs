@@ -35,6 +35,7 @@
 //! "A Quantized-Diffusion Model for Rendering Translucent Materials", SIGGRAPH 2011.
 
 use crate::fresnel;
+use crate::fresnel::Fresnel;
 use crate::microfacet::{Distribution, Ndf};
 use crate::model::{reflect, reflect_z, same_upper_hemisphere, sample_from_pdf, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSource, ParamSpec};
@@ -324,6 +325,10 @@ impl RoughPlastic {
 }
 
 impl Brdf for RoughPlastic {
+    fn fresnel(&self) -> Option<Fresnel> {
+        Some(Fresnel::Dielectric { eta: self.eta })
+    }
+
     fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
         if !same_upper_hemisphere(wi, wo) {
             return Rgb::ZERO;
@@ -405,6 +410,10 @@ impl Plastic {
 }
 
 impl Brdf for Plastic {
+    fn fresnel(&self) -> Option<Fresnel> {
+        Some(Fresnel::Dielectric { eta: self.eta })
+    }
+
     fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
         if !same_upper_hemisphere(wi, wo) {
             return Rgb::ZERO;

@@ -38,6 +38,7 @@
 
 use crate::dielectric::{eta_from_params, eta_seen_from, interface_params};
 use crate::fresnel;
+use crate::fresnel::Fresnel;
 use crate::microfacet::{Distribution, Ndf};
 use crate::model::{refract, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSource, ParamSpec};
@@ -106,6 +107,10 @@ impl RoughDielectric {
 }
 
 impl Brdf for RoughDielectric {
+    fn fresnel(&self) -> Option<Fresnel> {
+        Some(Fresnel::Dielectric { eta: self.eta })
+    }
+
     fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
         let Some(g) = self.geometry(wi, wo) else { return Rgb::ZERO };
         let d = self.distribution.d(g.m);

@@ -11,6 +11,7 @@
 
 use crate::dielectric::eta_from_params;
 use crate::fresnel;
+use crate::fresnel::Fresnel;
 use crate::model::{reflect_z, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSource};
 use crate::registry::{by_value, ModelSpec};
@@ -36,6 +37,10 @@ impl ThinDielectric {
 }
 
 impl Brdf for ThinDielectric {
+    fn fresnel(&self) -> Option<Fresnel> {
+        Some(Fresnel::Dielectric { eta: self.eta })
+    }
+
     fn eval(&self, _wi: Vec3, _wo: Vec3) -> Rgb {
         Rgb::ZERO
     }

@@ -103,6 +103,10 @@ impl<F: Brdf, B: Brdf> Brdf for TwoSided<F, B> {
         true
     }
 
+    fn fresnel(&self) -> Option<crate::fresnel::Fresnel> {
+        self.front.fresnel()
+    }
+
     fn phong_terms(&self) -> Option<PhongTerms> {
         self.front.phong_terms()
     }

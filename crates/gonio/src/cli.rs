@@ -124,6 +124,8 @@ pub enum PlotKind {
     Albedo,
     /// θh × θd image (Disney BRDF Explorer's image slice).
     Slice,
+    /// Fresnel reflectance (Rs, Rp, unpolarised, Schlick) of the model's interface against θi.
+    Fresnel,
 }
 
 /// The radial quantity of a polar plot.

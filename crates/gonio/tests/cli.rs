@@ -177,6 +177,35 @@ fn plots_write_valid_svg_and_png() {
 }
 
 #[test]
+fn fresnel_plots_draw_each_models_interface_and_refuse_models_without_one() {
+    let dir = scratch("fresnel");
+    let svg = dir.join("fresnel.svg");
+    let o = gonio(&[
+        "plot",
+        "dielectric",
+        "--kind",
+        "fresnel",
+        "--overlay",
+        "microfacet:material=Au",
+        "-o",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    for row in
+        ["dielectric: Rs", "dielectric: Rp", "dielectric: unpolarised", "dielectric: Schlick", "material=Au): Rp"]
+    {
+        assert!(text.contains(row), "legend row '{row}' missing");
+    }
+    // Four curves for each of the two models.
+    assert_eq!(text.matches("<path d=\"M").count(), 8);
+    let o = gonio(&["plot", "lambert", "--kind", "fresnel", "-o", svg.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("lambert") && stderr(&o).contains("no Fresnel term"), "{}", stderr(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn check_reports_a_table_and_exit_status() {
     let o = gonio(&["check", "lambert", "--albedo", "0.5"]);
     let text = stdout(&o);

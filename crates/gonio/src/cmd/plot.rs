@@ -1,10 +1,10 @@
-//! `gonio plot`: polar lobe, albedo curve or θh × θd slice, to SVG or PNG.
+//! `gonio plot`: polar lobe, albedo curve, θh × θd slice or Fresnel curves, to SVG or PNG.
 
 use super::model_arg;
 use crate::cli::{PlotArgs, PlotKind, UsageError};
 use crate::modelarg::{split_overlay, ModelArg};
 use crate::output::{write_atomic, Format};
-use crate::plot::{albedo, polar, raster, slice, Figure, Series};
+use crate::plot::{albedo, fresnel, polar, raster, slice, Figure, Series};
 use anyhow::{bail, Context, Result};
 use std::path::Path;
 
@@ -21,6 +21,21 @@ pub fn write_figure(fig: &Figure, path: &Path, width: Option<u32>) -> Result<()>
     };
     // No command reads a file yet; measured data will be listed here as inputs.
     write_atomic(path, &bytes, &[])
+}
+
+/// Pairs each model with its Fresnel term; a model without one is a usage error.
+fn with_fresnel(series: Vec<Series>) -> Result<Vec<(Series, brdf::fresnel::Fresnel)>> {
+    series
+        .into_iter()
+        .map(|s| match s.brdf.fresnel() {
+            Some(f) => Ok((s, f)),
+            None => Err(usage(format!(
+                "{} has no Fresnel term to plot; --kind fresnel takes models with a specular interface \
+                 (mirror, microfacet, ggx, beckmann, cook-torrance, plastic, roughplastic, dielectric, …)",
+                s.label
+            ))),
+        })
+        .collect()
 }
 
 fn usage(msg: String) -> anyhow::Error {
@@ -60,6 +75,7 @@ pub fn run(args: &PlotArgs, model_params: &[(String, String)]) -> Result<()> {
         PlotKind::Polar => polar::figure(&series, args.theta_i, args.quantity, args.channel, args.normalize),
         PlotKind::Albedo => albedo::figure(&series, args.samples, args.seed, args.channel, args.over),
         PlotKind::Slice => slice::figure(&series, args.phi_d, args.decades, args.channel),
+        PlotKind::Fresnel => fresnel::figure(&with_fresnel(series)?, args.channel),
     };
     write_figure(&fig, &args.output, args.width)?;
     eprintln!("wrote {}", args.output.display());

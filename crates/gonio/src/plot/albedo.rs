@@ -5,7 +5,7 @@
 //! light arriving from wi that is reflected. The two agree for reciprocal models; for the
 //! lecture's raw Phong (ρ ∝ 1/cos θi) only the second shows the energy gain at grazing incidence.
 
-use super::svg::{fmt_tick, nice_ceil, nice_ticks, series_style, Anchor, Svg};
+use super::svg::{nice_ceil, series_style, Anchor, Svg};
 use super::{Figure, Series};
 use crate::cli::Channel;
 use brdf::check::{albedo_integral, Integral};
@@ -76,24 +76,7 @@ pub fn figure(series: &[Series], samples: usize, seed: u64, channel: Channel, ov
     };
     svg.text(20.0, 30.0, &format!("Directional albedo {title}, {})", channel.label()), 18.0, Anchor::Start);
     svg.text(20.0, 52.0, &format!("{samples} samples {how} per point; band: ±2 standard errors"), 13.0, Anchor::Start);
-    for t in nice_ticks(0.0, ymax, 6) {
-        svg.line((x0, py(t)), (x1, py(t)), "#e6e6e6", 1.0, None);
-        svg.text(x0 - 8.0, py(t) + 4.0, &fmt_tick(t), 11.0, Anchor::End);
-    }
-    for t in (0..=6).map(|k| f64::from(k) * 15.0) {
-        svg.line((px(t), y0), (px(t), y1), "#e6e6e6", 1.0, None);
-        svg.text(px(t), y1 + 18.0, &format!("{}°", fmt_tick(t)), 11.0, Anchor::Middle);
-    }
-    svg.rect(x0, y0, x1 - x0, y1 - y0, r##"fill="none" stroke="#444444" stroke-width="1""##);
-    svg.text((x0 + x1) / 2.0, y1 + 40.0, axis, 13.0, Anchor::Middle);
-    svg.text_markup(
-        24.0,
-        (y0 + y1) / 2.0,
-        "albedo",
-        13.0,
-        Anchor::Middle,
-        &format!(r#"transform="rotate(-90 24 {:.1})""#, (y0 + y1) / 2.0),
-    );
+    svg.angle_axes((x0, x1, y0, y1), ymax, axis, "albedo");
     svg.line((x0, py(1.0)), (x1, py(1.0)), "#888888", 1.2, Some("6 4"));
     svg.text(x1 - 6.0, py(1.0) - 6.0, "1: energy bound", 11.0, Anchor::End);
 

@@ -1,6 +1,7 @@
 //! Plots of reflection models, drawn as hand-written SVG and rasterised to PNG on request.
 
 pub mod albedo;
+pub mod fresnel;
 pub mod polar;
 pub mod raster;
 pub mod slice;

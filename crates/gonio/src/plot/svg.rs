@@ -150,6 +150,33 @@ impl Svg {
         }
     }
 
+    /// A plot frame over angles 0–90° (ticks every 15°) and values 0–`ymax`, with grid lines
+    /// and axis labels; `frame` is (x0, x1, y0, y1), y0 at the top.
+    pub fn angle_axes(&mut self, frame: (f64, f64, f64, f64), ymax: f64, x_label: &str, y_label: &str) {
+        let (x0, x1, y0, y1) = frame;
+        let px = |theta: f64| x0 + (x1 - x0) * theta / 90.0;
+        let py = |v: f64| y1 - (y1 - y0) * v / ymax;
+        for t in nice_ticks(0.0, ymax, 6) {
+            self.line((x0, py(t)), (x1, py(t)), "#e6e6e6", 1.0, None);
+            self.text(x0 - 8.0, py(t) + 4.0, &fmt_tick(t), 11.0, Anchor::End);
+        }
+        for t in (0..=6).map(|k| f64::from(k) * 15.0) {
+            self.line((px(t), y0), (px(t), y1), "#e6e6e6", 1.0, None);
+            self.text(px(t), y1 + 18.0, &format!("{}°", fmt_tick(t)), 11.0, Anchor::Middle);
+        }
+        self.rect(x0, y0, x1 - x0, y1 - y0, r##"fill="none" stroke="#444444" stroke-width="1""##);
+        self.text((x0 + x1) / 2.0, y1 + 40.0, x_label, 13.0, Anchor::Middle);
+        let mid = (y0 + y1) / 2.0;
+        self.text_markup(
+            24.0,
+            mid,
+            &esc(y_label),
+            13.0,
+            Anchor::Middle,
+            &format!(r#"transform="rotate(-90 24 {mid:.1})""#),
+        );
+    }
+
     /// The finished document.
     pub fn finish(self) -> String {
         let mut o = String::new();
