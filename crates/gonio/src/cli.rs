@@ -126,6 +126,8 @@ pub enum PlotKind {
     Slice,
     /// Fresnel reflectance (Rs, Rp, unpolarised, Schlick) of the model's interface against θi.
     Fresnel,
+    /// The lobe over the whole hemisphere of viewing directions, in 3D, for a fixed incident direction.
+    Lobe3d,
 }
 
 /// The radial quantity of a polar plot.

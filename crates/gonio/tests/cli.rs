@@ -206,6 +206,23 @@ fn fresnel_plots_draw_each_models_interface_and_refuse_models_without_one() {
 }
 
 #[test]
+fn lobe3d_plots_draw_a_shaded_surface_per_model() {
+    let dir = scratch("lobe3d");
+    let (svg, png) = (dir.join("lobe.svg"), dir.join("lobe.png"));
+    for out in [&svg, &png] {
+        let args = ["plot", "ward", "--diffuse", "0.3", "--kind", "lobe3d", "--overlay", "mirror", "--normalize", "-o"];
+        let o = gonio(&[&args[..], &[out.to_str().unwrap()]].concat());
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let text = std::fs::read_to_string(&svg).unwrap();
+    // A facet per grid cell (45 × 72) of the lobe with a diffuse part; the mirror's delta lobe has none.
+    assert_eq!(text.matches("<polygon points=").count(), 45 * 72, "facets");
+    assert!(text.contains("mirror (delta lobe not drawn)") && text.contains("each scaled to its own peak"));
+    assert!(png_size(&std::fs::read(&png).unwrap()).0 > 0);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn check_reports_a_table_and_exit_status() {
     let o = gonio(&["check", "lambert", "--albedo", "0.5"]);
     let text = stdout(&o);

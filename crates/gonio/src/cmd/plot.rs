@@ -1,10 +1,10 @@
-//! `gonio plot`: polar lobe, albedo curve, θh × θd slice or Fresnel curves, to SVG or PNG.
+//! `gonio plot`: polar or 3D lobe, albedo curve, θh × θd slice or Fresnel curves, to SVG or PNG.
 
 use super::model_arg;
 use crate::cli::{PlotArgs, PlotKind, UsageError};
 use crate::modelarg::{split_overlay, ModelArg};
 use crate::output::{write_atomic, Format};
-use crate::plot::{albedo, fresnel, polar, raster, slice, Figure, Series};
+use crate::plot::{albedo, fresnel, lobe3d, polar, raster, slice, Figure, Series};
 use anyhow::{bail, Context, Result};
 use std::path::Path;
 
@@ -61,8 +61,8 @@ pub fn run(args: &PlotArgs, model_params: &[(String, String)]) -> Result<()> {
     if let Some(d) = args.decades.filter(|d| !(*d > 0.0 && *d <= 12.0)) {
         return Err(usage(format!("--decades {d} is out of range; expected (0, 12]")));
     }
-    if args.normalize && args.kind != PlotKind::Polar {
-        return Err(usage("--normalize applies to --kind polar".into()));
+    if args.normalize && !matches!(args.kind, PlotKind::Polar | PlotKind::Lobe3d) {
+        return Err(usage("--normalize applies to --kind polar and --kind lobe3d".into()));
     }
     if !(2..=100_000_000).contains(&args.samples) {
         return Err(usage(format!("--samples {} is out of range; expected 2 to 100000000", args.samples)));
@@ -76,6 +76,7 @@ pub fn run(args: &PlotArgs, model_params: &[(String, String)]) -> Result<()> {
         PlotKind::Albedo => albedo::figure(&series, args.samples, args.seed, args.channel, args.over),
         PlotKind::Slice => slice::figure(&series, args.phi_d, args.decades, args.channel),
         PlotKind::Fresnel => fresnel::figure(&with_fresnel(series)?, args.channel),
+        PlotKind::Lobe3d => lobe3d::figure(&series, args.theta_i, args.quantity, args.channel, args.normalize),
     };
     write_figure(&fig, &args.output, args.width)?;
     eprintln!("wrote {}", args.output.display());

@@ -2,6 +2,7 @@
 
 pub mod albedo;
 pub mod fresnel;
+pub mod lobe3d;
 pub mod polar;
 pub mod raster;
 pub mod slice;

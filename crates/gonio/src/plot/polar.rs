@@ -23,6 +23,21 @@ pub fn outgoing(theta_o_deg: f64) -> Vec3 {
     Vec3::new(t.sin() as f32, 0.0, t.cos() as f32)
 }
 
+/// The plotted quantity at (wi, wo): ρ or ρ·cos θo, non-negative, NaN where not finite.
+pub fn lobe_value(brdf: &dyn Brdf, wi: Vec3, wo: Vec3, quantity: Quantity, channel: Channel) -> f64 {
+    let rho = channel.of(brdf.eval(wi, wo));
+    let v = match quantity {
+        Quantity::Brdf => rho,
+        Quantity::Intensity => rho * f64::from(wo.z.max(0.0)),
+    };
+    // A negative value is a model bug that `check` reports; the plot shows the non-negative part.
+    if v.is_finite() {
+        v.max(0.0)
+    } else {
+        f64::NAN
+    }
+}
+
 /// The lobe as (θo in degrees, value) pairs.
 pub fn lobe(brdf: &dyn Brdf, theta_i_deg: f64, quantity: Quantity, channel: Channel) -> Vec<(f64, f64)> {
     let wi = incident(theta_i_deg);
@@ -30,14 +45,7 @@ pub fn lobe(brdf: &dyn Brdf, theta_i_deg: f64, quantity: Quantity, channel: Chan
     (0..=n)
         .map(|k| {
             let t = -90.0 + k as f64 * STEP_DEG;
-            let wo = outgoing(t);
-            let rho = channel.of(brdf.eval(wi, wo));
-            let v = match quantity {
-                Quantity::Brdf => rho,
-                Quantity::Intensity => rho * f64::from(wo.z.max(0.0)),
-            };
-            // A negative value is a model bug that `check` reports; the plot shows the non-negative part.
-            (t, if v.is_finite() { v.max(0.0) } else { f64::NAN })
+            (t, lobe_value(brdf, wi, outgoing(t), quantity, channel))
         })
         .collect()
 }
