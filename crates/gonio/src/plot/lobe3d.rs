@@ -32,6 +32,13 @@ pub fn surface(brdf: &dyn brdf::Brdf, theta_i_deg: f64, quantity: Quantity, chan
     out
 }
 
+/// One quadrilateral of a lobe, projected: its depth towards the viewer, corners and fill.
+struct Facet {
+    depth: f32,
+    corners: [(f64, f64); 4],
+    fill: String,
+}
+
 /// A colour `#rrggbb` scaled by `shade`.
 fn shaded(hex: &str, shade: f64) -> String {
     let c = |k: usize| u8::from_str_radix(&hex[1 + 2 * k..3 + 2 * k], 16).unwrap_or(0);
@@ -96,7 +103,7 @@ pub fn figure(series: &[Series], theta_i_deg: f64, quantity: Quantity, channel: 
     svg.line(project(Vec3::ZERO), project(Vec3::Z * rmax * 1.1), "#999999", 1.0, Some("3 3"));
 
     // Every facet of every lobe, back to front.
-    let mut facets: Vec<(f32, Vec<(f64, f64)>, String)> = Vec::new();
+    let mut facets = Vec::new();
     for (k, v) in surfaces.iter().enumerate() {
         let (colour, _) = series_style(k);
         let at = |i: usize, j: usize| v[i * PHI_STEPS + j % PHI_STEPS];
@@ -109,13 +116,14 @@ pub fn figure(series: &[Series], theta_i_deg: f64, quantity: Quantity, channel: 
                 }
                 let shade = 0.35 + 0.65 * f64::from(n.normalize().dot(light).abs());
                 let depth = q.iter().map(|p| p.dot(toward_viewer)).sum::<f32>() / 4.0;
-                facets.push((depth, q.iter().map(|&p| project(p)).collect(), shaded(colour, shade)));
+                facets.push(Facet { depth, corners: q.map(project), fill: shaded(colour, shade) });
             }
         }
     }
-    facets.sort_by(|a, b| a.0.total_cmp(&b.0));
-    for (_, pts, fill) in &facets {
-        let d: Vec<String> = pts.iter().map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
+    facets.sort_by(|a, b| a.depth.total_cmp(&b.depth));
+    for f in &facets {
+        let d: Vec<String> = f.corners.iter().map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
+        let fill = &f.fill;
         svg.raw(&format!(r#"<polygon points="{}" fill="{fill}" stroke="{fill}" stroke-width="0.4"/>"#, d.join(" ")));
     }
 
