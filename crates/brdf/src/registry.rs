@@ -118,6 +118,7 @@ pub fn models() -> &'static [ModelSpec] {
         crate::perturbed::BUMPMAP_SPEC,
         crate::null::SPEC,
         crate::measured::SPEC,
+        crate::measured::tabulated_model::SPEC,
     ]
 }
 

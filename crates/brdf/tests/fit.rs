@@ -144,3 +144,36 @@ fn ranking_puts_the_generating_model_first() {
     assert_eq!(ranked[0].model, FitModel::Ggx, "{}", fit::report::table(&ranked));
     assert!(ranked[1].error > 10.0 * ranked[0].error, "{}", fit::report::table(&ranked));
 }
+
+#[test]
+fn the_printed_options_rebuild_the_fitted_model_except_cook_torrances_fresnel() {
+    for t in truths() {
+        let f = fit::fit(t.model, &samples(&t, 1));
+        let options = fit::report::options(&f);
+        let mut words = options.split_whitespace();
+        let name = words.next().unwrap();
+        let pairs: Vec<(String, String)> = std::iter::from_fn(|| {
+            let k = words.next()?;
+            Some((k.trim_start_matches("--").to_string(), words.next()?.to_string()))
+        })
+        .collect();
+        let given: Vec<(&str, &str)> = pairs.iter().map(|(k, v)| (k.as_str(), v.as_str())).collect();
+        let built = brdf::build(name, &given).unwrap();
+        let mut worst: f64 = 0.0;
+        for (ti, to, phi) in [(10.0f64, 20.0f64, 3.0f64), (40.0, 35.0, 3.1), (60.0, 55.0, 2.5), (30.0, 70.0, 1.0)] {
+            let (ti, to) = (ti.to_radians(), to.to_radians());
+            let wi = Vec3::new(-ti.sin() as f32, 0.0, ti.cos() as f32);
+            let wo = Vec3::new((to.sin() * phi.cos()) as f32, (to.sin() * phi.sin()) as f32, to.cos() as f32);
+            let (a, b) = (built.eval(wi, wo).0, f.eval(wi, wo));
+            for c in 0..3 {
+                worst = worst.max((f64::from(a[c]) - b[c]).abs() / b[c].max(1e-6));
+            }
+        }
+        // The options print five decimals: the rebuilt model agrees to that precision.
+        if t.model == FitModel::CookTorrance {
+            assert!(worst > 0.01, "{options}: F = 1 in the options, k_s < 1 in the fit");
+        } else {
+            assert!(worst < 2e-3, "{options}: relative difference {worst}");
+        }
+    }
+}

@@ -49,6 +49,8 @@ pub enum Command {
     Compare(crate::cmd::compare::CompareArgs),
     /// Fit analytic models (plus a Lambert term) to a MERL or tabulated file by Levenberg–Marquardt.
     Fit(crate::cmd::fit::FitArgs),
+    /// Serve a local web page to turn a model's knobs and watch its lobe, checks and a lit object.
+    Explore(crate::explore::ExploreArgs),
 }
 
 const PLOT_AFTER_HELP: &str = "\
@@ -190,6 +192,10 @@ pub struct PlotArgs {
     /// Incident polar angle θi in degrees (polar plot).
     #[arg(long, default_value_t = 45.0, value_name = "DEG", allow_hyphen_values = true)]
     pub theta_i: f64,
+    /// Azimuth φi of the plane of incidence in degrees, turned about the normal from the xz-plane
+    /// (polar and lobe3d plots; matters for anisotropic models).
+    #[arg(long, default_value_t = 0.0, value_name = "DEG", allow_hyphen_values = true)]
+    pub phi_i: f64,
     /// Difference azimuth φd in degrees (slice plot).
     #[arg(long, default_value_t = 90.0, value_name = "DEG", allow_hyphen_values = true)]
     pub phi_d: f64,

@@ -104,12 +104,39 @@ pub fn demo_integrator() -> Integrator {
     Integrator::path(5, 3)
 }
 
-/// One object in model `brdf` under `env` (the embedded probe when None), seen from +Z at
-/// `width` × `height`: a unit sphere, or `mesh` scaled and centred to fit one.
+/// How the one-object scenes are lit.
+#[derive(Clone, Debug, Default)]
+pub struct Lighting {
+    /// The light probe, as [`probe_light`] makes it; None leaves it out.
+    pub env: Option<EnvMap>,
+    /// A point light: the direction towards it (world space, +Y up, the camera on +Z) and the
+    /// irradiance it gives at the object's centre, W/m².
+    pub point: Option<(Vec3, f32)>,
+}
+
+/// A probe (the embedded one when None) as a light, scaled by `scale` after the scale that
+/// brings its upward irradiance to π.
+pub fn probe_light(image: Option<&Image>, scale: f32) -> Result<EnvMap> {
+    let embedded;
+    let img = match image {
+        Some(img) => img,
+        None => {
+            embedded = probe_image()?;
+            &embedded
+        }
+    };
+    EnvMap::new(img, probe_scale(img)? * scale)
+}
+
+/// Distance of the point light from the object's centre (object radius 1).
+const POINT_DISTANCE: f32 = 6.0;
+
+/// One object in model `brdf` under `light`, seen from +Z at `width` × `height`: a unit
+/// sphere, or `mesh` scaled and centred to fit one.
 pub fn object_scene(
     brdf: Arc<dyn Brdf>,
     mesh: Option<&TriangleMesh>,
-    env: Option<&Image>,
+    light: &Lighting,
     width: u32,
     height: u32,
 ) -> Result<Scene> {
@@ -134,10 +161,14 @@ pub fn object_scene(
         }
     };
     b.shape(Shape::new(geometry, brdf));
-    match env {
-        Some(img) => b.light(env_light(img)?),
-        None => b.light(env_light(&probe_image()?)?),
-    };
+    if let Some(env) = &light.env {
+        b.light(Light::EnvMap(Box::new(env.clone())));
+    }
+    if let Some((dir, irradiance)) = light.point {
+        let dir = dir.try_normalize().ok_or_else(|| Error::Invalid("the point light's direction is zero".into()))?;
+        let intensity = Rgb::splat(irradiance * POINT_DISTANCE * POINT_DISTANCE);
+        b.light(Light::Point(PointLight { position: dir * POINT_DISTANCE, intensity }));
+    }
     b.build()
 }
 

@@ -16,6 +16,7 @@ macro_rules! outln {
 mod cli;
 mod cmd;
 mod demo_scene;
+mod explore;
 mod modelarg;
 mod output;
 mod plot;
@@ -46,6 +47,7 @@ fn main() -> ExitCode {
         Command::Render(a) => cmd::render::run(a).map(|()| true),
         Command::Compare(a) => cmd::compare::run(a).map(|()| true),
         Command::Fit(a) => cmd::fit::run(a).map(|()| true),
+        Command::Explore(a) => explore::run(a).map(|()| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

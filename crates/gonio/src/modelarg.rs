@@ -65,6 +65,15 @@ impl ModelArg {
         }
     }
 
+    /// The model as an overlay item: `ward:alpha=0.1:ks=0.3`.
+    pub fn item(&self) -> String {
+        let mut s = self.spec.name.to_string();
+        for (k, v) in &self.given {
+            s.push_str(&format!(":{k}={v}"));
+        }
+        s
+    }
+
     /// The given parameters as `a=1, b=2`, or `defaults`.
     pub fn given_text(&self) -> String {
         if self.given.is_empty() {

@@ -10,15 +10,22 @@ fn rgb(v: &[f64; 3], digits: usize) -> String {
 }
 
 /// The parameters as `gonio` model options that rebuild the fitted model, e.g.
-/// `ward --alpha 0.1 --ks 0.2,0.2,0.2 --diffuse 0.5,0.4,0.3`. For the microfacet models the
-/// constant Fresnel k_s has no registry parameter and is printed separately by `describe`.
+/// `ward --alpha 0.1 --ks 0.2,0.2,0.2 --diffuse 0.5,0.4,0.3`. GGX and Beckmann carry the constant
+/// Fresnel k_s as `--reflectance` (clamped to its range [0, 1]); Cook-Torrance has no registry
+/// parameter for it, so its options rebuild the lobe with F = 1 and `describe` prints k_s.
 pub fn options(fit: &Fit) -> String {
     let mut s = fit.model.name().to_string();
     for (k, v) in fit.model.registry_shape_params(fit.shape) {
         let _ = write!(s, " --{k} {v}");
     }
-    if matches!(fit.model, super::FitModel::Ward | super::FitModel::BlinnPhong) {
-        let _ = write!(s, " --ks {}", rgb(&fit.ks, 5));
+    match fit.model {
+        super::FitModel::Ward | super::FitModel::BlinnPhong => {
+            let _ = write!(s, " --ks {}", rgb(&fit.ks, 5));
+        }
+        super::FitModel::Ggx | super::FitModel::Beckmann => {
+            let _ = write!(s, " --reflectance {}", rgb(&fit.ks.map(|k| k.clamp(0.0, 1.0)), 5));
+        }
+        super::FitModel::CookTorrance => {}
     }
     let _ = write!(s, " --diffuse {}", rgb(&fit.diffuse, 5));
     s

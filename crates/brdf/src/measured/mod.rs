@@ -19,11 +19,13 @@ pub mod merl;
 pub mod microsurface;
 pub mod sampling;
 pub mod tabulated;
+pub mod tabulated_model;
 
 pub use error::MeasuredError;
 pub use merl::MerlTable;
 pub use sampling::TableSampler;
 pub use tabulated::Tabulated;
+pub use tabulated_model::TabulatedBrdf;
 
 use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSource, ParamSpec};

@@ -168,6 +168,17 @@ pub fn print_report(outcomes: &[Outcome], wall_seconds: f64) {
     }
 }
 
+/// One finding as JSON.
+pub fn finding_json(f: &brdf::check::Finding) -> serde_json::Value {
+    serde_json::json!({
+        "property": f.property.name(),
+        "claimed": f.claimed,
+        "passed": f.passed,
+        "value": if f.value.is_finite() { serde_json::json!(f.value) } else { serde_json::Value::Null },
+        "detail": f.detail,
+    })
+}
+
 /// The outcomes as JSON.
 pub fn report_json(outcomes: &[Outcome], seed: u64, alpha: f64) -> Result<serde_json::Value> {
     let cases = outcomes
@@ -180,13 +191,7 @@ pub fn report_json(outcomes: &[Outcome], seed: u64, alpha: f64) -> Result<serde_
                 "claims": claims_json(o.claims),
                 "ok": o.report.ok(),
                 "seconds": o.seconds,
-                "findings": o.report.findings.iter().map(|f| serde_json::json!({
-                    "property": f.property.name(),
-                    "claimed": f.claimed,
-                    "passed": f.passed,
-                    "value": if f.value.is_finite() { serde_json::json!(f.value) } else { serde_json::Value::Null },
-                    "detail": f.detail,
-                })).collect::<Vec<_>>(),
+                "findings": o.report.findings.iter().map(finding_json).collect::<Vec<_>>(),
             }))
         })
         .collect::<Result<Vec<_>>>()?;

@@ -17,7 +17,16 @@ pub struct CompareArgs {
     /// Light probe, equirectangular .hdr or .exr (default: the built-in studio probe).
     #[arg(long)]
     pub env: Option<PathBuf>,
-    /// Mesh (.obj or .ply) shown instead of a sphere.
+    /// Scale on the probe (after the scale that brings its upward irradiance to π); 0 leaves it out.
+    #[arg(long, default_value_t = 1.0)]
+    pub env_scale: f32,
+    /// A point light in direction X,Y,Z from the object (+Y up, the camera on +Z).
+    #[arg(long, value_name = "X,Y,Z")]
+    pub light: Option<String>,
+    /// Irradiance of the point light at the object's centre, W/m².
+    #[arg(long, default_value_t = 3.0)]
+    pub light_irradiance: f32,
+    /// Mesh (.obj or .ply, or `suzanne` for the built-in monkey) shown instead of a sphere.
     #[arg(long)]
     pub mesh: Option<PathBuf>,
     /// Output image: .png or .exr.
@@ -68,12 +77,22 @@ pub fn run(a: &CompareArgs) -> Result<()> {
         None => None,
     };
     let mesh = match &a.mesh {
+        Some(p) if p.as_os_str() == "suzanne" => Some(crate::demo_scene::suzanne()?),
         Some(p) => {
             inputs.push(p.clone());
             Some(render::io::load_mesh(p).with_context(|| format!("reading the mesh '{}'", p.display()))?)
         }
         None => None,
     };
+    if !(a.env_scale >= 0.0 && a.env_scale.is_finite() && a.light_irradiance >= 0.0 && a.light_irradiance.is_finite()) {
+        bail!("--env-scale and --light-irradiance must be finite and at least 0");
+    }
+    let point = match &a.light {
+        Some(text) => Some((crate::cmd::eval::parse_direction("light", text)?, a.light_irradiance)),
+        None => None,
+    };
+    let env = (a.env_scale > 0.0).then(|| crate::demo_scene::probe_light(env.as_ref(), a.env_scale)).transpose()?;
+    let lighting = crate::demo_scene::Lighting { env, point };
     let n = a.models.len() as u32;
     let mut sheet = Image::new(n * a.size, a.size);
     let opts = RenderOptions { spp: a.spp, seed: a.seed, threads: a.threads, ..Default::default() };
@@ -82,7 +101,7 @@ pub fn run(a: &CompareArgs) -> Result<()> {
         let (name, params) = parse_model(spec)?;
         let given: Vec<(&str, &str)> = params.iter().map(|(k, v)| (k.as_str(), v.as_str())).collect();
         let brdf = crate::demo_scene::build_model(&name, &given).with_context(|| format!("model '{spec}'"))?;
-        let scene = crate::demo_scene::object_scene(brdf, mesh.as_ref(), env.as_ref(), a.size, a.size)?;
+        let scene = crate::demo_scene::object_scene(brdf, mesh.as_ref(), &lighting, a.size, a.size)?;
         let (panel, stop) = render_with_progress(&scene, &opts, &name);
         for y in 0..a.size {
             for x in 0..a.size {

@@ -19,7 +19,7 @@ pub fn run(args: &DemoArgs) -> Result<bool> {
     let out =
         |name: &str| if args.out_dir == std::path::Path::new(".") { name.into() } else { args.out_dir.join(name) };
     let lobes = out("gonio-lobes.svg");
-    write_figure(&polar::figure(&s, 45.0, Quantity::Intensity, Channel::Luminance, false), &lobes, None)?;
+    write_figure(&polar::figure(&s, (45.0, 0.0), Quantity::Intensity, Channel::Luminance, false), &lobes, None)?;
     outln!("wrote {} (in-plane lobes at θi = 45°)", lobes.display());
     let alb = out("gonio-albedo.svg");
     write_figure(&albedo::figure(&s, 1 << 14, 0x5EED, Channel::Luminance, albedo::Over::Wi), &alb, None)?;

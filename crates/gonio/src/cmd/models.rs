@@ -29,6 +29,11 @@ fn param_json(p: &ParamSpec) -> serde_json::Value {
         ParamKind::Float { min, max } | ParamKind::Rgb { min, max } => {
             o["min"] = serde_json::json!(min);
             o["max"] = serde_json::json!(max);
+            if !p.names.is_empty() {
+                o["names"] = serde_json::Value::Object(
+                    p.names.iter().map(|(n, v)| (n.to_string(), serde_json::json!(v))).collect(),
+                );
+            }
         }
         ParamKind::Choice(opts) => o["options"] = serde_json::json!(opts),
         ParamKind::Bool | ParamKind::Path | ParamKind::Model => {}
@@ -79,29 +84,35 @@ fn default_claims(m: &ModelSpec) -> Result<brdf::Claims, String> {
     m.build_with(&[]).map(|b| b.claims()).map_err(|e| e.to_string())
 }
 
+/// Every model with its parameters (names, kinds, ranges, defaults), claims and showcases:
+/// what `gonio models --json` prints and the explorer's model panel is generated from.
+pub fn models_json() -> serde_json::Value {
+    let list: Vec<serde_json::Value> = brdf::models()
+        .iter()
+        .map(|m| {
+            serde_json::json!({
+                "name": m.name,
+                "summary": m.summary,
+                "reference": m.reference,
+                "params": (m.params)().iter().map(param_json).collect::<Vec<_>>(),
+                "claims": match default_claims(m) {
+                    Ok(c) => claims_json(c),
+                    Err(e) => serde_json::json!({ "error": e }),
+                },
+                "showcase": m.showcase.iter().map(|set| {
+                    serde_json::Value::Object(set.iter().map(|(k, v)| (k.to_string(), serde_json::json!(v))).collect())
+                }).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    serde_json::Value::Array(list)
+}
+
 /// Runs `gonio models`.
 pub fn run(args: &ModelsArgs) -> Result<()> {
     let models = brdf::models();
     if args.json {
-        let list: Vec<serde_json::Value> = models
-            .iter()
-            .map(|m| {
-                serde_json::json!({
-                    "name": m.name,
-                    "summary": m.summary,
-                    "reference": m.reference,
-                    "params": (m.params)().iter().map(param_json).collect::<Vec<_>>(),
-                    "claims": match default_claims(m) {
-                        Ok(c) => claims_json(c),
-                        Err(e) => serde_json::json!({ "error": e }),
-                    },
-                    "showcase": m.showcase.iter().map(|set| {
-                        serde_json::Value::Object(set.iter().map(|(k, v)| (k.to_string(), serde_json::json!(v))).collect())
-                    }).collect::<Vec<_>>(),
-                })
-            })
-            .collect();
-        outln!("{}", serde_json::to_string_pretty(&list)?);
+        outln!("{}", serde_json::to_string_pretty(&models_json())?);
         return Ok(());
     }
     for (i, m) in models.iter().enumerate() {

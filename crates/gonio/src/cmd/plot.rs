@@ -55,6 +55,9 @@ pub fn run(args: &PlotArgs, model_params: &[(String, String)]) -> Result<()> {
     if !(0.0..=90.0).contains(&args.theta_i) {
         return Err(usage(format!("--theta-i {} is out of range; expected [0, 90] degrees", args.theta_i)));
     }
+    if !(-360.0..=360.0).contains(&args.phi_i) {
+        return Err(usage(format!("--phi-i {} is out of range; expected [-360, 360] degrees", args.phi_i)));
+    }
     if !args.phi_d.is_finite() {
         return Err(usage("--phi-d must be a finite angle in degrees".into()));
     }
@@ -72,11 +75,15 @@ pub fn run(args: &PlotArgs, model_params: &[(String, String)]) -> Result<()> {
     }
     let series = series(&models)?;
     let fig = match args.kind {
-        PlotKind::Polar => polar::figure(&series, args.theta_i, args.quantity, args.channel, args.normalize),
+        PlotKind::Polar => {
+            polar::figure(&series, (args.theta_i, args.phi_i), args.quantity, args.channel, args.normalize)
+        }
         PlotKind::Albedo => albedo::figure(&series, args.samples, args.seed, args.channel, args.over),
         PlotKind::Slice => slice::figure(&series, args.phi_d, args.decades, args.channel),
         PlotKind::Fresnel => fresnel::figure(&with_fresnel(series)?, args.channel),
-        PlotKind::Lobe3d => lobe3d::figure(&series, args.theta_i, args.quantity, args.channel, args.normalize),
+        PlotKind::Lobe3d => {
+            lobe3d::figure(&series, (args.theta_i, args.phi_i), args.quantity, args.channel, args.normalize)
+        }
     };
     write_figure(&fig, &args.output, args.width)?;
     eprintln!("wrote {}", args.output.display());

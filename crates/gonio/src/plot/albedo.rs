@@ -41,15 +41,27 @@ pub enum Over {
 
 /// The albedo curve of one model.
 pub fn curve(brdf: &dyn Brdf, samples: usize, seed: u64, channel: Channel, over: Over) -> Vec<Point> {
+    curve_at(brdf, &thetas(), samples, seed, channel, over)
+}
+
+/// The albedo curve at the angles `thetas` (degrees).
+pub fn curve_at(
+    brdf: &dyn Brdf,
+    thetas: &[f64],
+    samples: usize,
+    seed: u64,
+    channel: Channel,
+    over: Over,
+) -> Vec<Point> {
     let which = match over {
         Over::Wi => Integral::OverIncident,
         Over::Wo => Integral::OverOutgoing,
     };
     let rgb = |c: [f64; 3]| Rgb(c.map(|v| v as f32));
-    thetas()
-        .into_iter()
+    thetas
+        .iter()
         .enumerate()
-        .map(|(k, theta)| {
+        .map(|(k, &theta)| {
             let t = theta.to_radians();
             let wo = Vec3::new(t.sin() as f32, 0.0, t.cos() as f32);
             let (mean, se) = albedo_integral(brdf, which, wo, samples, seed.wrapping_add(k as u64));

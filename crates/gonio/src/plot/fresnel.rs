@@ -27,7 +27,8 @@ pub enum Curve {
 }
 
 impl Curve {
-    fn label(self) -> &'static str {
+    /// Its name in legends.
+    pub fn label(self) -> &'static str {
         match self {
             Curve::Rs => "Rs",
             Curve::Rp => "Rp",

@@ -3,7 +3,7 @@
 //! quantity (ρ or ρ·cos θo), seen in perspective-free oblique projection and drawn back to
 //! front with flat shading. Delta lobes have no extent and are not drawn.
 
-use super::polar::{incident, lobe_value};
+use super::polar::{incident_at, lobe_value};
 use super::svg::{series_style, Anchor, Svg};
 use super::{Figure, Series};
 use crate::cli::{Channel, Quantity};
@@ -17,8 +17,13 @@ const PHI_STEPS: usize = 72;
 const VIEW: (f64, f64) = (-65.0, 28.0);
 
 /// The lobe's vertices r(wo)·wo on the (θo, φo) grid, row by row from the pole.
-pub fn surface(brdf: &dyn brdf::Brdf, theta_i_deg: f64, quantity: Quantity, channel: Channel) -> Vec<Vec3> {
-    let wi = incident(theta_i_deg);
+pub fn surface(
+    brdf: &dyn brdf::Brdf,
+    (theta_i_deg, phi_i_deg): (f64, f64),
+    quantity: Quantity,
+    channel: Channel,
+) -> Vec<Vec3> {
+    let wi = incident_at(theta_i_deg, phi_i_deg);
     let mut out = Vec::with_capacity((THETA_STEPS + 1) * PHI_STEPS);
     for i in 0..=THETA_STEPS {
         let t = (i as f64 * 90.0 / THETA_STEPS as f64).to_radians();
@@ -47,9 +52,15 @@ fn shaded(hex: &str, shade: f64) -> String {
 }
 
 /// Draws the 3D lobes of `series`; `normalize` scales each to its own peak.
-pub fn figure(series: &[Series], theta_i_deg: f64, quantity: Quantity, channel: Channel, normalize: bool) -> Figure {
+pub fn figure(
+    series: &[Series],
+    (theta_i_deg, phi_i_deg): (f64, f64),
+    quantity: Quantity,
+    channel: Channel,
+    normalize: bool,
+) -> Figure {
     let mut surfaces: Vec<Vec<Vec3>> =
-        series.iter().map(|s| surface(s.brdf.as_ref(), theta_i_deg, quantity, channel)).collect();
+        series.iter().map(|s| surface(s.brdf.as_ref(), (theta_i_deg, phi_i_deg), quantity, channel)).collect();
     let peaks: Vec<f32> = surfaces.iter().map(|v| v.iter().map(|p| p.length()).fold(0.0, f32::max)).collect();
     if normalize {
         for (v, &m) in surfaces.iter_mut().zip(&peaks) {
@@ -127,7 +138,7 @@ pub fn figure(series: &[Series], theta_i_deg: f64, quantity: Quantity, channel: 
         svg.raw(&format!(r#"<polygon points="{}" fill="{fill}" stroke="{fill}" stroke-width="0.4"/>"#, d.join(" ")));
     }
 
-    let wi = incident(theta_i_deg);
+    let wi = incident_at(theta_i_deg, phi_i_deg);
     let reach = rmax * 1.25;
     svg.line(project(Vec3::ZERO), project(wi * reach), "#222222", 2.0, None);
     svg.line(project(Vec3::ZERO), project(Vec3::new(-wi.x, -wi.y, wi.z) * reach), "#222222", 1.5, Some("6 4"));
@@ -153,7 +164,7 @@ mod tests {
         // ρ·cos θo = (a/π) cos θo: r = c cos θo is a sphere of diameter c through the origin.
         let l = brdf::build("lambert", &[("albedo", "1")]).unwrap();
         let c = 1.0 / std::f32::consts::PI;
-        for p in surface(l.as_ref(), 30.0, Quantity::Intensity, Channel::Luminance) {
+        for p in surface(l.as_ref(), (30.0, 0.0), Quantity::Intensity, Channel::Luminance) {
             assert!(((p - Vec3::Z * (c / 2.0)).length() - c / 2.0).abs() < 1e-6, "{p}");
         }
     }
@@ -161,7 +172,7 @@ mod tests {
     #[test]
     fn a_glossy_lobe_peaks_near_the_mirror_direction() {
         let g = brdf::build("ward", &[("alpha", "0.1"), ("ks", "0.5")]).unwrap();
-        let v = surface(g.as_ref(), 40.0, Quantity::Brdf, Channel::Luminance);
+        let v = surface(g.as_ref(), (40.0, 0.0), Quantity::Brdf, Channel::Luminance);
         let peak = v.iter().copied().max_by(|a, b| a.length().total_cmp(&b.length())).unwrap();
         let mirror = Vec3::new((40f32).to_radians().sin(), 0.0, (40f32).to_radians().cos());
         assert!(peak.normalize().dot(mirror) > (4f32).to_radians().cos(), "peak at {peak}");

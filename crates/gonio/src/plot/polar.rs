@@ -17,6 +17,18 @@ pub fn incident(theta_i_deg: f64) -> Vec3 {
     Vec3::new(-t.sin() as f32, 0.0, t.cos() as f32)
 }
 
+/// `v` turned by `deg` degrees about the normal.
+pub fn rotate_z(v: Vec3, deg: f64) -> Vec3 {
+    let (s, c) = deg.to_radians().sin_cos();
+    let (s, c) = (s as f32, c as f32);
+    Vec3::new(c * v.x - s * v.y, s * v.x + c * v.y, v.z)
+}
+
+/// [`incident`] with the plane of incidence turned by φi (degrees) about the normal.
+pub fn incident_at(theta_i_deg: f64, phi_i_deg: f64) -> Vec3 {
+    rotate_z(incident(theta_i_deg), phi_i_deg)
+}
+
 /// Viewing direction at signed angle θo (degrees) in the plane of incidence; θo > 0 on the mirror side.
 pub fn outgoing(theta_o_deg: f64) -> Vec3 {
     let t = theta_o_deg.to_radians();
@@ -39,13 +51,19 @@ pub fn lobe_value(brdf: &dyn Brdf, wi: Vec3, wo: Vec3, quantity: Quantity, chann
 }
 
 /// The lobe as (θo in degrees, value) pairs.
-pub fn lobe(brdf: &dyn Brdf, theta_i_deg: f64, quantity: Quantity, channel: Channel) -> Vec<(f64, f64)> {
-    let wi = incident(theta_i_deg);
+pub fn lobe(
+    brdf: &dyn Brdf,
+    theta_i_deg: f64,
+    phi_i_deg: f64,
+    quantity: Quantity,
+    channel: Channel,
+) -> Vec<(f64, f64)> {
+    let wi = incident_at(theta_i_deg, phi_i_deg);
     let n = (180.0 / STEP_DEG).round() as usize;
     (0..=n)
         .map(|k| {
             let t = -90.0 + k as f64 * STEP_DEG;
-            (t, lobe_value(brdf, wi, outgoing(t), quantity, channel))
+            (t, lobe_value(brdf, wi, rotate_z(outgoing(t), phi_i_deg), quantity, channel))
         })
         .collect()
 }
@@ -69,9 +87,15 @@ fn peak(lobe: &[(f64, f64)]) -> f64 {
 }
 
 /// Draws the lobes of `series` on one polar plot; `normalize` scales each to its own peak.
-pub fn figure(series: &[Series], theta_i_deg: f64, quantity: Quantity, channel: Channel, normalize: bool) -> Figure {
+pub fn figure(
+    series: &[Series],
+    (theta_i_deg, phi_i_deg): (f64, f64),
+    quantity: Quantity,
+    channel: Channel,
+    normalize: bool,
+) -> Figure {
     let mut lobes: Vec<Vec<(f64, f64)>> =
-        series.iter().map(|s| lobe(s.brdf.as_ref(), theta_i_deg, quantity, channel)).collect();
+        series.iter().map(|s| lobe(s.brdf.as_ref(), theta_i_deg, phi_i_deg, quantity, channel)).collect();
     let peaks: Vec<f64> = lobes.iter().map(|l| peak(l)).collect();
     if normalize {
         for (l, &p) in lobes.iter_mut().zip(&peaks) {
@@ -84,7 +108,7 @@ pub fn figure(series: &[Series], theta_i_deg: f64, quantity: Quantity, channel: 
 
     let (cx, cy, r) = (400.0, 440.0, 350.0);
     let legend_x = cx + r + 50.0;
-    let wi = incident(theta_i_deg);
+    let wi = incident_at(theta_i_deg, phi_i_deg);
     let deltas: Vec<Option<f64>> = series.iter().map(|s| delta_reflectance(s.brdf.as_ref(), wi, channel)).collect();
     let labels: Vec<String> = series
         .iter()
@@ -205,7 +229,7 @@ mod tests {
     fn lambert_lobe_is_a_circle_through_the_origin() {
         // ρ cos θo with constant ρ = 1/π: in the plot's Cartesian frame r = cos θo / π is a circle.
         let l = brdf::build("lambert", &[("albedo", "1")]).unwrap();
-        let pts = lobe(l.as_ref(), 45.0, Quantity::Intensity, Channel::Luminance);
+        let pts = lobe(l.as_ref(), 45.0, 0.0, Quantity::Intensity, Channel::Luminance);
         assert_eq!(pts.len(), 721);
         for (t, v) in pts {
             let expect = t.to_radians().cos().max(0.0) / std::f64::consts::PI;
@@ -213,7 +237,7 @@ mod tests {
         }
         let f = figure(
             &[Series { label: "lambert".into(), brdf: l }],
-            45.0,
+            (45.0, 0.0),
             Quantity::Intensity,
             Channel::Luminance,
             false,
@@ -235,7 +259,7 @@ mod tests {
         let mut widths = Vec::new();
         for ke in [5.0f64, 20.0, 100.0] {
             let m = brdf::build("phong", &[("ks", "0.5"), ("ke", &ke.to_string())]).unwrap();
-            let pts = lobe(m.as_ref(), 30.0, Quantity::Intensity, Channel::Luminance);
+            let pts = lobe(m.as_ref(), 30.0, 0.0, Quantity::Intensity, Channel::Luminance);
             for &(t, v) in &pts {
                 let c = (t - 30.0).to_radians().cos().max(0.0);
                 let expect = 0.5 * c.powf(ke) * t.to_radians().cos().max(0.0) / 30f64.to_radians().cos();

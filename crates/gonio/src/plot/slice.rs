@@ -55,12 +55,17 @@ pub fn directions(theta_h: f32, theta_d: f32, phi_d: f32) -> (Vec3, Vec3) {
 /// ρ over the grid: row 0 is the largest θd, so the image reads with θd increasing upwards.
 /// `None` marks cells where wi or wo is below the horizon.
 pub fn grid(brdf: &dyn Brdf, phi_d_deg: f64, channel: Channel) -> Vec<Option<f64>> {
-    let cell = std::f32::consts::FRAC_PI_2 / CELLS as f32;
+    grid_of(brdf, phi_d_deg, channel, CELLS)
+}
+
+/// [`grid`] with `cells` × `cells` cells.
+pub fn grid_of(brdf: &dyn Brdf, phi_d_deg: f64, channel: Channel, cells: usize) -> Vec<Option<f64>> {
+    let cell = std::f32::consts::FRAC_PI_2 / cells as f32;
     let phi_d = phi_d_deg.to_radians() as f32;
-    let mut out = Vec::with_capacity(CELLS * CELLS);
-    for row in 0..CELLS {
-        let theta_d = (CELLS - 1 - row) as f32 * cell + 0.5 * cell;
-        for col in 0..CELLS {
+    let mut out = Vec::with_capacity(cells * cells);
+    for row in 0..cells {
+        let theta_d = (cells - 1 - row) as f32 * cell + 0.5 * cell;
+        for col in 0..cells {
             let theta_h = col as f32 * cell + 0.5 * cell;
             let (wi, wo) = directions(theta_h, theta_d, phi_d);
             out.push((wi.z > 0.0 && wo.z > 0.0).then(|| channel.of(brdf.eval(wi, wo))));

@@ -28,3 +28,20 @@ pub fn load_mesh(path: impl AsRef<Path>) -> Result<TriangleMesh> {
     }
     Ok(m)
 }
+
+/// Parses an `.obj` or `.ply` mesh held in memory (`name` gives the type), with load_mesh's defaults.
+pub fn parse_mesh(bytes: &[u8], name: &str) -> std::result::Result<TriangleMesh, String> {
+    let ext = Path::new(name).extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let mut m = match ext.as_deref() {
+        Some("obj") => obj::parse_obj(bytes, false, true)?,
+        Some("ply") => {
+            let d = ply::parse_ply(bytes)?;
+            TriangleMesh::with_uvs(d.positions, d.normals, d.uvs, d.indices).map_err(|e| e.to_string())?
+        }
+        _ => return Err(format!("'{name}': cannot read meshes of this type; expected .obj or .ply")),
+    };
+    if m.normals.is_none() {
+        m.compute_vertex_normals();
+    }
+    Ok(m)
+}

@@ -17,6 +17,7 @@
 pub mod bsdf;
 pub mod emitter;
 pub mod error;
+pub mod export;
 pub mod parse;
 pub mod sensor;
 pub mod shape;
