@@ -411,3 +411,58 @@ fn fit_recovers_a_measured_model_ranks_all_and_plots() {
     assert!(stderr(&o).contains("missing.binary"), "{}", stderr(&o));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn polar_plots_turn_with_phi_i_for_anisotropic_models_only() {
+    let dir = scratch("phi-i");
+    let plot = |model: &[&str], phi: &str, name: &str| {
+        let out = dir.join(name);
+        let o = gonio(&[model, &["--kind", "polar", "--phi-i", phi, "-o", out.to_str().unwrap()]].concat());
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read_to_string(out).unwrap()
+    };
+    let ward = ["plot", "ward", "--alpha_u", "0.05", "--alpha_v", "0.4"];
+    assert_ne!(plot(&ward, "0", "w0.svg"), plot(&ward, "90", "w90.svg"), "the lobe of an anisotropic model turns");
+    assert_eq!(
+        plot(&["plot", "ggx"], "0", "g0.svg"),
+        plot(&["plot", "ggx"], "90", "g90.svg"),
+        "an isotropic one does not"
+    );
+    let o = gonio(&["plot", "ggx", "--phi-i", "400", "-o", dir.join("x.svg").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--phi-i"), "{}", stderr(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn compare_lights_the_object_with_a_point_light_and_a_scaled_probe() {
+    let dir = scratch("compare-light");
+    let render = |extra: &[&str], name: &str| {
+        let out = dir.join(name);
+        let args = ["compare", "lambert", "--size", "32", "--spp", "4", "-o", out.to_str().unwrap()];
+        let o = gonio(&[&args[..], extra].concat());
+        assert!(o.status.success(), "{}", stderr(&o));
+        render::Image::load(&out).unwrap()
+    };
+    let half = |img: &render::Image, top: bool| -> f64 {
+        let rows = if top { 0..16 } else { 16..32 };
+        rows.flat_map(|y| (0..32).map(move |x| (x, y))).map(|(x, y)| f64::from(img.pixels[y * 32 + x].0[1])).sum()
+    };
+    let lit = render(&["--env-scale", "0", "--light", "0,1,0.2"], "top.exr");
+    assert!(
+        half(&lit, true) > 10.0 * half(&lit, false),
+        "lit from above: {} vs {}",
+        half(&lit, true),
+        half(&lit, false)
+    );
+    let dark = render(&["--env-scale", "0"], "dark.exr");
+    // The object's middle (the label is drawn along an edge).
+    let centre: f64 =
+        (12..20).flat_map(|y| (12..20).map(move |x| y * 32 + x)).map(|i| f64::from(dark.pixels[i].0[1])).sum();
+    assert_eq!(centre, 0.0, "no probe and no point light: nothing lights the object");
+    let probe = render(&["--mesh", "suzanne"], "suzanne.exr");
+    assert!(probe.mean()[1] > 0.01, "{:?}", probe.mean());
+    let o = gonio(&["compare", "lambert", "--light", "0,0,0", "-o", dir.join("x.png").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -78,7 +78,7 @@ fn build(p: &dyn ParamSource) -> Result<Box<dyn Brdf>, ParamError> {
 pub const SPEC: ModelSpec = ModelSpec {
     name: "tabulated",
     summary: "measured BRDF from a tabulated gonio-reflectometer text file, interpolated",
-    reference: "gonio's tabulated format (see `gonio measure --format csv`)",
+    reference: "gonio's tabulated text format (`gonio measure MODEL -o FILE.csv` writes it)",
     params,
     // Read from its file once, like `merl`: nothing varies over a surface.
     build: Build {

@@ -68,10 +68,13 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         tiny_http::Server::from_listener(listener, None).map_err(|e| anyhow::anyhow!("cannot serve on {addr}: {e}"))?;
     let local = server.server_addr().to_ip().context("the server has no IP address")?;
     let url = format!("http://{local}/");
-    outln!("gonio explore: serving {url} (Ctrl-C to stop)");
+    // Not outln!: a server whose stdout was closed (`| head -1`) keeps serving.
+    let mut out = std::io::stdout();
+    let _ = writeln!(out, "gonio explore: serving {url} (Ctrl-C to stop)");
     for root in files.roots() {
-        outln!("  data folder {}", root.display());
+        let _ = writeln!(out, "  data folder {}", root.display());
     }
+    let _ = out.flush();
     if args.open {
         open_browser(&url);
     }
