@@ -42,7 +42,7 @@ fn serve(args: &[&str]) -> Server {
 fn request(addr: &str, method: &str, path: &str, body: &[u8]) -> (u16, Vec<u8>) {
     let mut s = TcpStream::connect(addr).unwrap();
     // HTTP/1.0: the reply is not chunked and ends when the connection closes.
-    write!(s, "{method} {path} HTTP/1.0\r\nHost: x\r\nContent-Length: {}\r\n\r\n", body.len()).unwrap();
+    write!(s, "{method} {path} HTTP/1.0\r\nHost: {addr}\r\nContent-Length: {}\r\n\r\n", body.len()).unwrap();
     s.write_all(body).unwrap();
     let mut out = Vec::new();
     s.read_to_end(&mut out).unwrap();
@@ -213,7 +213,8 @@ fn uploads_are_size_limited_and_checked_on_arrival() {
     let mut c = TcpStream::connect(&s.addr).unwrap();
     write!(
         c,
-        "POST /api/upload?name=big.binary HTTP/1.1\r\nHost: x\r\nConnection: close\r\nContent-Length: 35000000\r\n\r\n"
+        "POST /api/upload?name=big.binary HTTP/1.1\r\nHost: {}\r\nConnection: close\r\nContent-Length: 35000000\r\n\r\n",
+        s.addr
     )
     .unwrap();
     let mut out = String::new();
@@ -243,7 +244,7 @@ fn uploads_are_size_limited_and_checked_on_arrival() {
 /// Opens a render stream and reads its first frame; returns the open connection.
 fn first_frame(addr: &str, query: &str) -> (TcpStream, [u32; 3]) {
     let mut s = TcpStream::connect(addr).unwrap();
-    write!(s, "GET /api/render?{query} HTTP/1.1\r\nHost: x\r\n\r\n").unwrap();
+    write!(s, "GET /api/render?{query} HTTP/1.1\r\nHost: {addr}\r\n\r\n").unwrap();
     let mut buf = Vec::new();
     let mut chunk = [0u8; 65536];
     let head_end = loop {
@@ -316,5 +317,43 @@ fn checks_fits_and_commands_are_the_command_lines() {
     assert!(cmd["mitsuba"].as_str().unwrap().contains("<!--"), "ggx's default shadowing has no Mitsuba form: {cmd}");
     let d = ok(&s.addr, "/api/command?m=dielectric");
     assert!(d["mitsuba"].as_str().unwrap().starts_with("<bsdf type=\"dielectric\">"), "{d}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn foreign_hosts_and_origins_odd_values_and_repeated_parameters_are_refused() {
+    let dir = scratch("refuse");
+    write_merl(&dir);
+    let s = serve(&["--data", dir.to_str().unwrap()]);
+    // A web site reaching the server through a rebound DNS name, or posting from its page.
+    let mut c = TcpStream::connect(&s.addr).unwrap();
+    write!(c, "GET /api/files HTTP/1.0\r\nHost: evil.example:80\r\n\r\n").unwrap();
+    let mut out = String::new();
+    c.read_to_string(&mut out).unwrap();
+    assert!(out.starts_with("HTTP/1.0 403") && !out.contains(dir.to_str().unwrap()), "{out}");
+    let mut c = TcpStream::connect(&s.addr).unwrap();
+    let head = format!("POST /api/stop?stream=x HTTP/1.0\r\nHost: {}\r\nOrigin: http://evil.example\r\n", s.addr);
+    write!(c, "{head}Content-Length: 0\r\n\r\n").unwrap();
+    let mut out = String::new();
+    c.read_to_string(&mut out).unwrap();
+    assert!(out.starts_with("HTTP/1.0 403"), "{out}");
+    for (path, param) in [
+        ("/api/views?m=ggx&ti=NaN", "ti"),
+        ("/api/views?m=ggx&ti=", "ti"),
+        ("/api/views?m=ggx&phid=1e400", "phid"),
+        ("/api/views?m=ggx:alpha=nan", "alpha"),
+        ("/api/views?m=merl:filename=gold.binary:filename=/etc/passwd", "filename"),
+        ("/api/render?m=lambert&stream=", "stream"),
+        ("/api/render?m=lambert&light=1,2", "light"),
+        ("/api/render?m=lambert&probe=../x.hdr", "probe"),
+        ("/api/views?m=ggx&parts=polar,nosuch", "parts"),
+    ] {
+        let (status, e) = get(&s.addr, path);
+        assert!((400..=404).contains(&status) && e["parameter"] == param, "{path}: {status} {e}");
+    }
+    let (status, _) = request(&s.addr, "POST", "/api/stop?stream=", b"");
+    assert_eq!(status, 400);
+    let (status, e) = get(&s.addr, "/api/upload");
+    assert_eq!(status, 405, "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }

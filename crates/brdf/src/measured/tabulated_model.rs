@@ -1,6 +1,8 @@
 //! The `tabulated` model: ρ(wi, wo) = a gonio-reflectometer table (see `tabulated` for the text
 //! format), multilinearly interpolated on its θi × φi × θo × φo grid. Sampling draws from the
-//! same per-θo piecewise-constant tables of ρ·cos θi mixed with cosine sampling as `merl`.
+//! same per-θo piecewise-constant tables of ρ·cos θi mixed with cosine sampling as `merl`;
+//! those tables assume isotropy, so for anisotropic data they are only a proposal (`pdf` and
+//! `sample` still agree, and the cosine part reaches every direction).
 //!
 //! Claims nothing: a measured table need not be reciprocal, isotropic or energy conserving
 //! (`check` measures all three).
@@ -22,7 +24,7 @@ pub struct TabulatedBrdf {
 }
 
 impl TabulatedBrdf {
-    /// A model of `table`, with its sampler built from the luminance-free sum of channels.
+    /// A model of `table`, its sampler built from the sum of the three channels.
     pub fn new(table: Tabulated) -> Self {
         let sampler = TableSampler::build(&|wi, wo| {
             let c = table.lookup(wi, wo);
@@ -80,7 +82,7 @@ pub const SPEC: ModelSpec = ModelSpec {
     summary: "measured BRDF from a tabulated gonio-reflectometer text file, interpolated",
     reference: "gonio's tabulated text format (`gonio measure MODEL -o FILE.csv` writes it)",
     params,
-    // Read from its file once, like `merl`: nothing varies over a surface.
+    // Nothing varies over a surface: the file is read once per material, never per hit.
     build: Build {
         owned: build,
         scoped: |p, f| {

@@ -68,6 +68,13 @@ pub fn run(a: &CompareArgs) -> Result<()> {
     if a.spp == 0 || a.size < 16 || a.size > 4096 {
         bail!("--spp must be at least 1 and --size in 16..=4096");
     }
+    if !(a.env_scale >= 0.0 && a.env_scale.is_finite() && a.light_irradiance >= 0.0 && a.light_irradiance.is_finite()) {
+        bail!("--env-scale and --light-irradiance must be finite and at least 0");
+    }
+    let point = match &a.light {
+        Some(text) => Some((crate::cmd::eval::parse_direction("light", text)?, a.light_irradiance)),
+        None => None,
+    };
     let mut inputs = Vec::new();
     let env = match &a.env {
         Some(p) => {
@@ -82,13 +89,6 @@ pub fn run(a: &CompareArgs) -> Result<()> {
             inputs.push(p.clone());
             Some(render::io::load_mesh(p).with_context(|| format!("reading the mesh '{}'", p.display()))?)
         }
-        None => None,
-    };
-    if !(a.env_scale >= 0.0 && a.env_scale.is_finite() && a.light_irradiance >= 0.0 && a.light_irradiance.is_finite()) {
-        bail!("--env-scale and --light-irradiance must be finite and at least 0");
-    }
-    let point = match &a.light {
-        Some(text) => Some((crate::cmd::eval::parse_direction("light", text)?, a.light_irradiance)),
         None => None,
     };
     let env = (a.env_scale > 0.0).then(|| crate::demo_scene::probe_light(env.as_ref(), a.env_scale)).transpose()?;

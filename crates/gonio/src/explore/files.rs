@@ -150,7 +150,7 @@ impl Files {
     }
 
     /// Keeps an upload; returns its name `upload/N/NAME`.
-    pub fn add_upload(&self, name: &str, bytes: Vec<u8>) -> String {
+    pub fn add_upload(&self, name: &str, bytes: Arc<Vec<u8>>) -> String {
         let mut next = self.next.lock().unwrap_or_else(|e| e.into_inner());
         *next += 1;
         let id = *next;
@@ -159,7 +159,7 @@ impl Files {
             .map(|c| if c.is_ascii_alphanumeric() || matches!(c, '.' | '-' | '_') { c } else { '_' })
             .collect();
         let mut up = self.uploads.lock().unwrap_or_else(|e| e.into_inner());
-        up.insert(id, (clean.clone(), Arc::new(bytes)));
+        up.insert(id, (clean.clone(), bytes));
         while up.len() > KEPT_UPLOADS {
             let first = *up.keys().next().expect("not empty");
             up.remove(&first);
@@ -175,7 +175,12 @@ impl Files {
             let mut stack = vec![(root.clone(), 0usize)];
             while let Some((dir, depth)) = stack.pop() {
                 let Ok(entries) = std::fs::read_dir(&dir) else { continue };
-                let mut entries: Vec<_> = entries.flatten().map(|e| e.path()).collect();
+                // Symbolic links are not followed: a listing shows only what can be opened.
+                let mut entries: Vec<_> = entries
+                    .flatten()
+                    .filter(|e| e.file_type().is_ok_and(|t| !t.is_symlink()))
+                    .map(|e| e.path())
+                    .collect();
                 entries.sort();
                 for p in entries {
                     visited += 1;
@@ -202,7 +207,7 @@ impl Files {
 }
 
 impl Source {
-    /// The bytes, read whole (`path_for_errors` names the file in errors).
+    /// The bytes, read whole (`param` is the parameter named in errors).
     pub fn read(&self, param: &str) -> Result<Arc<Vec<u8>>, ApiError> {
         match self {
             Source::Upload(b) => Ok(b.clone()),
@@ -234,7 +239,7 @@ mod tests {
         }
         assert_eq!(f.resolve("m", "nosuch.binary").unwrap_err().status, 404);
         assert_eq!(f.list(), vec![("sub/a.binary".to_string(), Kind::Merl)]);
-        let name = f.add_upload("my file.csv", vec![1, 2]);
+        let name = f.add_upload("my file.csv", Arc::new(vec![1, 2]));
         assert_eq!(name, "upload/1/my_file.csv");
         assert!(matches!(f.resolve("m", &name), Ok(Source::Upload(b)) if b.len() == 2));
         assert_eq!(f.resolve("m", "upload/9/x").unwrap_err().status, 404);

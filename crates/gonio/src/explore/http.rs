@@ -70,6 +70,14 @@ impl Query {
         }
     }
 
+    /// A stream name (`stream=`): absent, or not empty.
+    pub fn stream(&self) -> Result<Option<&str>, ApiError> {
+        match self.get("stream") {
+            Some("") => Err(ApiError::param("stream", "", "a non-empty name")),
+            other => Ok(other),
+        }
+    }
+
     /// A value that must be present.
     pub fn required(&self, key: &str, what: &str) -> Result<&str, ApiError> {
         self.get(key).ok_or_else(|| ApiError::new(400, format!("missing query parameter '{key}': {what}")).named(key))
@@ -103,6 +111,14 @@ impl ApiError {
             parameter: Some(name.into()),
             expected: Some(expected.into()),
         }
+    }
+
+    /// Names `param` when no parameter is named yet.
+    pub fn or_param(mut self, param: &str) -> Self {
+        if self.parameter.is_none() {
+            self.parameter = Some(param.into());
+        }
+        self
     }
 
     /// The same error, naming `parameter`.
@@ -149,6 +165,13 @@ impl From<anyhow::Error> for ApiError {
             Err(e) => ApiError::new(400, format!("{e:#}")),
         }
     }
+}
+
+/// The direction `key`=x,y,z (normalised), as `gonio eval` reads it.
+pub fn direction(q: &Query, key: &str) -> Result<radiometry::Vec3, ApiError> {
+    let text = q.required(key, "a direction x,y,z")?;
+    crate::cmd::eval::parse_direction(key, text)
+        .map_err(|_| ApiError::param(key, text, "three finite numbers x,y,z, not all zero"))
 }
 
 /// A header from constant parts.

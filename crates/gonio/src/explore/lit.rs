@@ -5,6 +5,7 @@
 //! Stream format, repeated: `GNF1`, then width, height and samples per pixel as little-endian
 //! u32, then width × height RGBA bytes (8-bit sRGB, alpha 255).
 
+use super::cache::Cache;
 use super::files::{Files, Source};
 use super::http::{ApiError, Query};
 use super::model::Resolved;
@@ -21,29 +22,12 @@ use std::time::{Duration, Instant};
 /// Loaded meshes and probes by name, so dragging the light does not reload them.
 #[derive(Debug, Default)]
 pub struct Assets {
-    meshes: Mutex<HashMap<String, Arc<TriangleMesh>>>,
-    probes: Mutex<HashMap<String, Arc<EnvMap>>>,
+    meshes: Cache<Arc<TriangleMesh>, 4>,
+    probes: Cache<Arc<EnvMap>, 4>,
 }
 
-/// Assets of each kind kept loaded.
-const CACHED_ASSETS: usize = 4;
-
-fn cached<T>(
-    map: &Mutex<HashMap<String, Arc<T>>>,
-    key: &str,
-    make: impl FnOnce() -> Result<T, ApiError>,
-) -> Result<Arc<T>, ApiError> {
-    if let Some(v) = map.lock().unwrap_or_else(|e| e.into_inner()).get(key) {
-        return Ok(v.clone());
-    }
-    let v = Arc::new(make()?);
-    let mut m = map.lock().unwrap_or_else(|e| e.into_inner());
-    if m.len() >= CACHED_ASSETS {
-        m.clear();
-    }
-    m.insert(key.to_string(), v.clone());
-    Ok(v)
-}
+/// Renders at once, all tabs together; more are refused (503) rather than queued.
+pub const MAX_RENDERS: usize = 8;
 
 /// What one stream renders.
 pub struct Job {
@@ -56,24 +40,29 @@ impl Assets {
     fn mesh(&self, files: &Files, name: &str) -> Result<Option<Arc<TriangleMesh>>, ApiError> {
         match name {
             "sphere" => Ok(None),
-            "suzanne" => cached(&self.meshes, name, || {
-                crate::demo_scene::suzanne().map_err(|e| ApiError::new(500, e.to_string()))
-            })
-            .map(Some),
+            "suzanne" => self
+                .meshes
+                .get_or(name, || {
+                    crate::demo_scene::suzanne().map(Arc::new).map_err(|e| ApiError::new(500, e.to_string()))
+                })
+                .map(Some),
             file => {
                 let src = files.resolve("object", file)?;
-                let bytes = src.read("object")?;
-                cached(&self.meshes, file, || {
-                    render::io::parse_mesh(&bytes, file).map_err(|e| ApiError::new(400, e).named("object"))
-                })
-                .map(Some)
+                self.meshes
+                    .get_or(file, || {
+                        let bytes = src.read("object")?;
+                        render::io::parse_mesh(&bytes, file)
+                            .map(Arc::new)
+                            .map_err(|e| ApiError::new(400, e).named("object"))
+                    })
+                    .map(Some)
             }
         }
     }
 
-    /// The probe `name` (`studio`: the embedded one) as a light at `scale`, built once: its
-    /// sampling tables cost more than a first frame.
-    fn probe(&self, files: &Files, name: &str, scale: f32) -> Result<Arc<EnvMap>, ApiError> {
+    /// The probe `name` (`studio`: the embedded one) as a light at `scale`; its sampling tables,
+    /// which cost more than a first frame, are built once per probe.
+    fn probe(&self, files: &Files, name: &str, scale: f32) -> Result<EnvMap, ApiError> {
         let path = match name {
             "studio" => None,
             _ => match files.resolve("probe", name)? {
@@ -85,11 +74,12 @@ impl Assets {
                 }
             },
         };
-        cached(&self.probes, &format!("{name}|{scale}"), || {
-            let image =
-                path.map(Image::load).transpose().map_err(|e| ApiError::new(400, e.to_string()).named("probe"))?;
-            probe_light(image.as_ref(), scale).map_err(|e| ApiError::new(400, e.to_string()).named("probe"))
-        })
+        let bad = |e: render::Error| ApiError::new(400, e.to_string()).named("probe");
+        let unit = self.probes.get_or(name, || {
+            let image = path.map(Image::load).transpose().map_err(bad)?;
+            probe_light(image.as_ref(), 1.0).map(Arc::new).map_err(bad)
+        })?;
+        Ok(unit.scaled(scale))
     }
 
     /// The scene, sample budget and exposure a `/api/render` query asks for.
@@ -101,14 +91,11 @@ impl Assets {
         let irradiance = q.number("irradiance", 0.0, 1000.0, 3.0)? as f32;
         let mesh = self.mesh(files, q.get("object").unwrap_or("sphere"))?;
         let env = match env_scale > 0.0 {
-            true => Some((*self.probe(files, q.get("probe").unwrap_or("studio"), env_scale)?).clone()),
+            true => Some(self.probe(files, q.get("probe").unwrap_or("studio"), env_scale)?),
             false => None,
         };
         let point = match q.get("light") {
-            Some(text) => Some((
-                crate::cmd::eval::parse_direction("light", text).map_err(|e| ApiError::new(400, e.0).named("light"))?,
-                irradiance,
-            )),
+            Some(_) => Some((super::http::direction(q, "light")?, irradiance)),
             None => None,
         };
         let lighting = Lighting { env, point };
@@ -148,8 +135,8 @@ fn frame(sum: &Image, passes: u32, exposure: f32) -> Vec<u8> {
 
 /// The renders running, by the name the page gives them (`stream=`), so that a new request
 /// stops the renders it supersedes at once, mid-pass, rather than after their pass when the
-/// write to the closed connection fails: a render named N stops every render whose name
-/// starts with N (the page names its sphere `P/lit` and its object `P/lit/object`).
+/// write to the closed connection fails: a render named N stops the render of that name and
+/// those named N/… (the page names its sphere `P/lit` and its object `P/lit/object`).
 #[derive(Debug, Default)]
 pub struct Streams(Mutex<HashMap<String, Arc<AtomicBool>>>);
 
@@ -164,11 +151,11 @@ impl Streams {
         flag
     }
 
-    /// Stops every render whose name starts with `id`.
+    /// Stops the render named `id` and those below it (`id/…`).
     pub fn stop(&self, id: &str) {
         let mut m = self.0.lock().unwrap_or_else(|e| e.into_inner());
         m.retain(|name, f| {
-            let stop = name.starts_with(id);
+            let stop = name == id || name.strip_prefix(id).is_some_and(|rest| rest.starts_with('/'));
             if stop {
                 f.store(true, Ordering::SeqCst);
             }

@@ -3,6 +3,7 @@
 //! JSON API served here by tiny_http, one thread per request (the work is CPU-bound model
 //! evaluation and rendering, which needs no async runtime), so several tabs work at once.
 
+pub mod cache;
 pub mod checks;
 pub mod command;
 pub mod files;
@@ -44,13 +45,15 @@ pub struct ExploreArgs {
     pub upload_limit: u64,
 }
 
-const INDEX_HTML: &str = include_str!("page/index.html");
-const EXPLORE_JS: &str = include_str!("page/explore.js");
-const LOBE3D_JS: &str = include_str!("page/lobe3d.js");
-const EXPLORE_CSS: &str = include_str!("page/explore.css");
+const INDEX_HTML: &str = include_str!("../../web/index.html");
+const EXPLORE_JS: &str = include_str!("../../web/explore.js");
+const LOBE3D_JS: &str = include_str!("../../web/lobe3d.js");
+const EXPLORE_CSS: &str = include_str!("../../web/explore.css");
 
 /// What every request thread shares.
 struct State {
+    /// The `Host` values served (None: any, when bound beyond loopback).
+    hosts: Option<Vec<String>>,
     files: Files,
     tables: TableCache,
     assets: lit::Assets,
@@ -62,12 +65,19 @@ struct State {
 pub fn run(args: &ExploreArgs) -> Result<()> {
     let files = Files::new(&args.data, args.upload_limit.saturating_mul(1 << 20))?;
     let addr = format!("{}:{}", args.bind, args.port);
-    let listener = std::net::TcpListener::bind(&addr).with_context(|| format!("cannot listen on {addr}"))?;
+    let listener = std::net::TcpListener::bind((args.bind.as_str(), args.port))
+        .with_context(|| format!("cannot listen on {addr}"))?;
     no_delay(&listener);
     let server =
         tiny_http::Server::from_listener(listener, None).map_err(|e| anyhow::anyhow!("cannot serve on {addr}: {e}"))?;
     let local = server.server_addr().to_ip().context("the server has no IP address")?;
     let url = format!("http://{local}/");
+    // On a loopback address only requests naming it are served, so that a web site cannot reach
+    // the server through a DNS name rebound to 127.0.0.1.
+    let hosts = local.ip().is_loopback().then(|| {
+        let p = local.port();
+        vec![format!("localhost:{p}"), format!("127.0.0.1:{p}"), format!("[::1]:{p}")]
+    });
     // Not outln!: a server whose stdout was closed (`| head -1`) keeps serving.
     let mut out = std::io::stdout();
     let _ = writeln!(out, "gonio explore: serving {url} (Ctrl-C to stop)");
@@ -79,6 +89,7 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         open_browser(&url);
     }
     let state = Arc::new(State {
+        hosts,
         files,
         tables: TableCache::default(),
         assets: lit::Assets::default(),
@@ -141,7 +152,33 @@ fn background(nice: i32) {
     let _ = nice;
 }
 
+/// Refuses a request for another host name (DNS rebinding), and a POST from another site's page.
+fn same_origin(state: &State, request: &tiny_http::Request) -> Result<(), ApiError> {
+    let header = |name: &'static str| {
+        request.headers().iter().find(|h| h.field.equiv(name)).map(|h| h.value.as_str().to_string())
+    };
+    let host = header("Host").unwrap_or_default();
+    if let Some(hosts) = &state.hosts {
+        if !hosts.contains(&host) {
+            return Err(ApiError::new(
+                403,
+                format!("requests must name this machine (Host: {}), not '{host}'", hosts[1]),
+            ));
+        }
+    }
+    match header("Origin") {
+        Some(o) if *request.method() == tiny_http::Method::Post && o != format!("http://{host}") => {
+            Err(ApiError::new(403, format!("a page from {o} cannot change this server")))
+        }
+        _ => Ok(()),
+    }
+}
+
 fn handle(state: &State, mut request: tiny_http::Request) {
+    if let Err(e) = same_origin(state, &request) {
+        let _ = request.respond(e.reply());
+        return;
+    }
     let (path, q) = Query::split(request.url());
     // Plots first, then the lit views, then checks and fits (a second or more each).
     match path.as_str() {
@@ -151,15 +188,25 @@ fn handle(state: &State, mut request: tiny_http::Request) {
     }
     let method = request.method().clone();
     if path == "/api/render" {
-        // Streamed: the reply is written straight to the socket, frame after frame.
-        let job = resolve(&state.files, &state.tables, "m", q.get("m").unwrap_or_default())
-            .and_then(|r| state.assets.job(&state.files, &r, &q));
+        // Streamed: the reply is written straight to the socket, frame after frame. The render
+        // is registered before its scene is built, so that requests supersede one another in
+        // the order they arrived.
+        let job = q.stream().and_then(|id| {
+            if state.renders.load(Ordering::SeqCst) >= lit::MAX_RENDERS {
+                return Err(ApiError::new(
+                    503,
+                    format!("{} renders are running; close a tab or wait", lit::MAX_RENDERS),
+                ));
+            }
+            let cancel = state.streams.start(id);
+            let r = resolve(&state.files, &state.tables, "m", q.get("m").unwrap_or_default())?;
+            Ok((state.assets.job(&state.files, &r, &q)?, cancel))
+        });
         match job {
             Err(e) => {
                 let _ = request.respond(e.reply());
             }
-            Ok(job) => {
-                let cancel = state.streams.start(q.get("stream"));
+            Ok((job, cancel)) => {
                 let mut w = request.into_writer();
                 let head = "HTTP/1.1 200 OK\r\nContent-Type: application/octet-stream\r\nCache-Control: no-store\r\nConnection: close\r\n\r\n";
                 if w.write_all(head.as_bytes()).and_then(|()| w.flush()).is_ok() {
@@ -172,11 +219,18 @@ fn handle(state: &State, mut request: tiny_http::Request) {
     let reply = match (method, path.as_str()) {
         (tiny_http::Method::Post, "/api/upload") => upload(state, &mut request, &q),
         (tiny_http::Method::Post, "/api/stop") => {
+            if q.all("stream").contains(&"") {
+                let _ = request.respond(ApiError::param("stream", "", "a non-empty name").reply());
+                return;
+            }
             q.all("stream").into_iter().for_each(|id| state.streams.stop(id));
             Ok(json(200, &j!({ "stopped": q.all("stream") })))
         }
         (tiny_http::Method::Get, p) => get(state, p, &q),
-        (m, _) => Err(ApiError::new(405, format!("{m} is not served; the page uses GET (and POST for uploads)"))),
+        (m, p) => Err(ApiError::new(
+            405,
+            format!("{m} {p} is not served; the API takes GET, and POST for /api/upload and /api/stop"),
+        )),
     };
     let _ = request.respond(reply.unwrap_or_else(|e| e.reply()));
 }
@@ -201,6 +255,7 @@ fn get(state: &State, path: &str, q: &Query) -> Result<Reply, ApiError> {
             json(200, &fitting::residual(&first()?, &fitted, q)?)
         }
         "/api/command" => json(200, &command::commands(&first()?, q)?),
+        "/api/upload" | "/api/stop" => return Err(ApiError::new(405, format!("{path} takes POST"))),
         _ => return Err(ApiError::new(404, format!("nothing is served at '{path}'"))),
     })
 }
@@ -219,11 +274,7 @@ fn files_json(f: &Files) -> serde_json::Value {
 
 /// ρ and pdf of each model at directions written as `gonio eval` takes them.
 fn eval(models: &[model::Resolved], q: &Query) -> Result<serde_json::Value, ApiError> {
-    let dir = |key: &str| -> Result<radiometry::Vec3, ApiError> {
-        crate::cmd::eval::parse_direction(key, q.required(key, "a direction x,y,z")?)
-            .map_err(|e| ApiError::new(400, e.0).named(key))
-    };
-    let (wi, wo) = (dir("wi")?, dir("wo")?);
+    let (wi, wo) = (http::direction(q, "wi")?, http::direction(q, "wo")?);
     let results = models
         .iter()
         .map(|r| {
@@ -267,12 +318,20 @@ fn upload(state: &State, request: &mut tiny_http::Request, q: &Query) -> Result<
     if body.len() as u64 > limit {
         return Err(too_big(body.len() as u64));
     }
+    // Parsed before it is kept, so a bad file is reported now and evicts no good upload.
+    let body = Arc::new(body);
+    let measured = match kind {
+        Kind::Merl | Kind::Tabulated => {
+            Some(model::read_measured(kind.name(), name, &files::Source::Upload(body.clone()))?)
+        }
+        _ => {
+            render::io::parse_mesh(&body, name).map_err(|e| ApiError::new(400, e).named("file"))?;
+            None
+        }
+    };
     let path = state.files.add_upload(name, body);
-    // Parse now, so a bad file is reported at upload rather than at first use.
-    if matches!(kind, Kind::Merl | Kind::Tabulated) {
-        let item = format!("{}:filename={path}", kind.name());
-        resolve(&state.files, &state.tables, "file", &item)?;
-        return Ok(json(200, &j!({ "name": path, "kind": kind.name(), "item": item })));
-    }
-    Ok(json(200, &j!({ "name": path, "kind": kind.name() })))
+    let Some(m) = measured else { return Ok(json(200, &j!({ "name": path, "kind": kind.name() }))) };
+    state.tables.insert(path.clone(), m);
+    let item = format!("{}:filename={path}", kind.name());
+    Ok(json(200, &j!({ "name": path, "kind": kind.name(), "item": item })))
 }

@@ -2,15 +2,15 @@
 //! checked against the registry and built; measured models read their file only from the data
 //! folders or the uploads, and keep the table so that it can be fitted.
 
+use super::cache::Cache;
 use super::files::{Files, Source};
 use super::http::ApiError;
 use crate::modelarg::ModelArg;
 use brdf::fit::{self, Sample};
 use brdf::measured::{Interpolation, Merl, MerlData, MerlTable, Tabulated, TabulatedBrdf};
 use brdf::{Brdf, ParamKind};
-use std::collections::HashMap;
 use std::path::Path;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 /// Measured data behind a model.
 #[derive(Clone, Debug)]
@@ -43,26 +43,7 @@ pub struct Resolved {
 }
 
 /// Tables read, by file identity, so a slider move does not reread 35 MB.
-#[derive(Debug, Default)]
-pub struct TableCache(Mutex<HashMap<String, Measured>>);
-
-/// Tables kept loaded.
-const CACHED_TABLES: usize = 6;
-
-impl TableCache {
-    fn load(&self, key: String, make: impl FnOnce() -> Result<Measured, ApiError>) -> Result<Measured, ApiError> {
-        if let Some(m) = self.0.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
-            return Ok(m.clone());
-        }
-        let m = make()?;
-        let mut c = self.0.lock().unwrap_or_else(|e| e.into_inner());
-        if c.len() >= CACHED_TABLES {
-            c.clear();
-        }
-        c.insert(key, m.clone());
-        Ok(m)
-    }
-}
+pub type TableCache = Cache<Measured, 6>;
 
 fn source_key(name: &str, src: &Source) -> String {
     match src {
@@ -74,7 +55,8 @@ fn source_key(name: &str, src: &Source) -> String {
     }
 }
 
-fn read_measured(model: &str, name: &str, src: &Source) -> Result<Measured, ApiError> {
+/// Parses the measured data `src` (named `name`) for model `model` (`merl` or `tabulated`).
+pub fn read_measured(model: &str, name: &str, src: &Source) -> Result<Measured, ApiError> {
     let bytes = src.read("filename")?;
     let shown = Path::new(name);
     let bad = |e: brdf::measured::MeasuredError| ApiError::new(400, e.to_string()).named("filename");
@@ -91,6 +73,12 @@ fn read_measured(model: &str, name: &str, src: &Source) -> Result<Measured, ApiE
 /// Parses and builds `item` (query parameter `param`).
 pub fn resolve(files: &Files, tables: &TableCache, param: &str, item: &str) -> Result<Resolved, ApiError> {
     let arg = ModelArg::parse_item(item).map_err(|e| ApiError::from(e).or_param(param))?;
+    // The registry keeps the last of repeated values; the file read must be the one it names.
+    if let Some((k, _)) =
+        arg.given.iter().enumerate().find(|(i, (k, _))| arg.given[..*i].iter().any(|(j, _)| j == k)).map(|(_, kv)| kv)
+    {
+        return Err(ApiError::new(400, format!("parameter '{k}' is given twice in '{item}'; give it once")).named(k));
+    }
     let specs = (arg.spec.params)();
     let path_given = |name: &str| arg.given.iter().find(|(k, _)| k == name).map(|(_, v)| v.clone());
     let file_param = specs.iter().find(|s| s.kind == ParamKind::Path);
@@ -109,7 +97,7 @@ pub fn resolve(files: &Files, tables: &TableCache, param: &str, item: &str) -> R
         .named(file_param.name)
     })?;
     let src = files.resolve(file_param.name, &name)?;
-    let measured = tables.load(source_key(&name, &src), || read_measured(arg.spec.name, &name, &src))?;
+    let measured = tables.get_or(&source_key(&name, &src), || read_measured(arg.spec.name, &name, &src))?;
     let brdf: Arc<dyn Brdf> = match &measured {
         Measured::Merl(data) => {
             let nearest = arg.resolved()?.iter().any(|(k, v)| k == "interpolation" && v.to_string() == "nearest");
@@ -129,14 +117,4 @@ pub fn resolve_all(files: &Files, tables: &TableCache, items: &[&str]) -> Result
         );
     }
     items.iter().map(|i| resolve(files, tables, "m", i)).collect()
-}
-
-impl ApiError {
-    /// Names `param` when no parameter is named yet.
-    pub fn or_param(mut self, param: &str) -> Self {
-        if self.parameter.is_none() {
-            self.parameter = Some(param.into());
-        }
-        self
-    }
 }

@@ -87,6 +87,14 @@ impl EnvMap {
         })
     }
 
+    /// The map with its radiance multiplied by `s` > 0, sharing the sampling density (which a
+    /// uniform scale leaves as it is) instead of building it again.
+    pub fn scaled(&self, s: f32) -> Self {
+        let mut m = self.clone();
+        m.texels.iter_mut().for_each(|t| *t *= s);
+        m
+    }
+
     /// The map turned by the rotation `r` (world = r · map direction), or mirrored by it. None
     /// when `r` is not orthonormal (to 1e-4): other maps would not keep the density normalised.
     pub fn with_rotation(mut self, r: glam::Mat3) -> Option<Self> {

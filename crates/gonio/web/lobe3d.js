@@ -27,12 +27,11 @@ window.Lobe3d = (() => {
   const pbuf = gl.createBuffer(), nbuf = gl.createBuffer(), ibuf = gl.createBuffer();
 
   // World z-up to the screen: turn by yaw about z, tilt by pitch, then x right and z up.
-  function matrix(scale) {
+  function matrix(s) {
     const cy = Math.cos(yaw), sy = Math.sin(yaw), cp = Math.cos(pitch), sp = Math.sin(pitch);
     const a = canvas.height / canvas.width;
     // Rows: screen x, screen y, depth.
     const X = [cy, -sy, 0], Y = [sp * sy, sp * cy, cp], Z = [cp * sy, cp * cy, -sp];
-    const s = scale;
     return new Float32Array([
       X[0] * s * a, Y[0] * s, -Z[0] * s * 0.5, 0,
       X[1] * s * a, Y[1] * s, -Z[1] * s * 0.5, 0,

@@ -56,7 +56,7 @@ function writeUrl() {
 function writeUrlNow() {
   urlTimer = 0;
   const u = new URLSearchParams();
-  for (const m of state.models) u.append('m', item(m) + (m.visible ? '' : '!hidden'));
+  for (const m of state.models) u.append('m', item(m) + (m.visible ? '' : '!hidden') + (m.solo ? '!solo' : ''));
   for (const k of ['active', 'ti', 'pi', 'phid', 'channel', 'quantity', 'object', 'probe', 'env', 'irr']) u.set(k, state[k]);
   u.set('log', state.log ? 1 : 0);
   u.set('point', state.point ? 1 : 0);
@@ -68,10 +68,15 @@ function readUrl() {
   const u = new URLSearchParams(location.hash.slice(1));
   const ms = u.getAll('m');
   state.models = [];
-  for (const text of ms) {
+  for (let text of ms) {
+    const solo = text.endsWith('!solo');
+    if (solo) text = text.slice(0, -5);
     const hidden = text.endsWith('!hidden');
     const m = parseItem(hidden ? text.slice(0, -7) : text);
-    if (spec(m.name)) addModel(m.name, m.given, !hidden, false);
+    if (spec(m.name)) {
+      addModel(m.name, m.given, !hidden, false);
+      state.models[state.models.length - 1].solo = solo;
+    }
   }
   if (!state.models.length) addModel('ggx', {}, true, false);
   for (const k of ['ti', 'pi', 'phid', 'env', 'irr', 'active']) if (u.has(k) && isFinite(+u.get(k))) state[k] = +u.get(k);
@@ -82,7 +87,10 @@ function readUrl() {
     const l = u.get('light').split(',').map(Number);
     if (l.length === 3 && l.every(isFinite)) state.light = l;
   }
-  state.active = Math.min(Math.max(0, state.active | 0), state.models.length - 1);
+  const clamp = (v, lo, hi) => Math.min(hi, Math.max(lo, v));
+  state.ti = clamp(state.ti, 0, 89); state.pi = clamp(state.pi, -180, 180); state.phid = clamp(state.phid, 0, 180);
+  state.env = clamp(state.env, 0, 2); state.irr = clamp(state.irr, 0, 10);
+  state.active = clamp(state.active | 0, 0, state.models.length - 1);
 }
 
 function addModel(name, given, visible, select) {
@@ -134,7 +142,6 @@ function paramControl(m, p) {
       sel.append(new Option('named…', ''));
       for (const n of Object.keys(p.names)) sel.append(new Option(n, n));
       sel.addEventListener('change', () => { if (sel.value) { num.value = sel.value; toSlider(p.names[sel.value]); set(sel.value); } });
-      row.className = 'p';
       const wrap = document.createElement('div');
       wrap.className = 'p wide';
       wrap.append(document.createElement('span'), sel);
@@ -317,8 +324,12 @@ async function fetchPlots() {
   });
   // The 3D lobe, the lit render and the finer albedo wait for the 2D plots, so a slider move's
   // plots get the cores first.
-  if (!pending.length) {
+  // (The 3D lobe also follows a long drag, at most every LOBE_EVERY_MS.)
+  if (!pending.length || now - lobeDrawn >= LOBE_EVERY_MS) {
+    lobeDrawn = now;
     if (window.Lobe3d) window.Lobe3d.draw(views.models, state);
+  }
+  if (!pending.length) {
     if (litDirty) setTimeout(litWhenStill, LIT_STILL_MS);
     clearTimeout(albedoTimer);
     albedoTimer = setTimeout(() => refineAlbedo(v), 300);
@@ -335,6 +346,9 @@ async function refineAlbedo(v) {
     drawAlbedo();
   } catch (e) { showError(e); }
 }
+
+const LOBE_EVERY_MS = 100;
+let lobeDrawn = 0;
 
 // A parameter change restarts the lit views once the knobs have been still this long, so the
 // frames do not compete with the plots of a slider being dragged (a light drag restarts at once).
@@ -654,9 +668,8 @@ function hoverSlice(e) {
   const d = [Math.sin(r(td)) * Math.cos(pd), Math.sin(r(td)) * Math.sin(pd), Math.cos(r(td))];
   const rot = (w) => [w[0] * Math.cos(r(th)) + w[2] * Math.sin(r(th)), w[1], -w[0] * Math.sin(r(th)) + w[2] * Math.cos(r(th))];
   const wi = rot(d), wo = rot([-d[0], -d[1], d[2]]);
-  const w = wiVec();
   // The read-out's wi is the page's; show the slice point's pair instead.
-  readoutPair(wi, wo, 'θh = ' + th.toFixed(1) + '°, θd = ' + td.toFixed(1) + '°', w);
+  readoutPair(wi, wo, 'θh = ' + th.toFixed(1) + '°, θd = ' + td.toFixed(1) + '°');
 }
 
 async function readoutPair(wiV, woV, where) {
@@ -941,7 +954,15 @@ async function start() {
   for (const f of files.meshes) $('object').append(new Option(f, f));
   for (const f of files.probes) $('probe').append(new Option(f, f));
   readUrl();
+  // A file named in the address that this server does not offer falls back to the defaults.
+  const offered = (id) => [...$(id).options].map((o) => o.value);
+  if (!offered('object').includes(state.object)) state.object = 'suzanne';
+  if (!offered('probe').includes(state.probe)) state.probe = 'studio';
+  if (!['luminance', 'max', 'r', 'g', 'b'].includes(state.channel)) state.channel = 'luminance';
+  if (!['intensity', 'brdf'].includes(state.quantity)) state.quantity = 'intensity';
   bind();
+  // A hidden tab renders nothing (and holds no connection: browsers allow a host six).
+  document.addEventListener('visibilitychange', () => { if (document.hidden) stopLit(); else startLit(); });
   renderPanel();
   syncControls();
   changed('params');
