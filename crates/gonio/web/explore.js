@@ -375,7 +375,7 @@ function changed(what) {
   version += 1;
   pending.push([version, performance.now()]);
   refreshPlots();
-  if (what === 'params' || what === 'active') {
+  if ((what === 'params' || what === 'active') && litKeyNow() !== litKey) {
     // The old parameters' render stops now; the new one starts once the plots are drawn.
     stopLit();
     litDirty = true;
@@ -687,7 +687,13 @@ async function readoutPair(wiV, woV, where) {
 
 // ---------- checks ----------
 let checkTimer = 0, checkAbort = null;
+// The check of the selected model at the incident direction last asked for: another model's
+// change does not check this one again.
+let checkedKey = '';
 function scheduleCheck() {
+  const key = item(activeModel()) + '|' + state.ti + '|' + state.pi;
+  if (key === checkedKey) return;
+  checkedKey = key;
   clearTimeout(checkTimer);
   $('check-info').textContent = 'checking…';
   checkTimer = setTimeout(runCheck, 350);
@@ -815,7 +821,12 @@ function stopLit() {
   fetch('/api/stop?stream=' + PAGE_ID + '/lit', { method: 'POST' }).catch(() => {});
 }
 
+// What the lit views show; a change elsewhere (another model) leaves them rendering.
+const litKeyNow = () => JSON.stringify([litQuery('sphere'), state.object]);
+let litKey = '';
+
 function startLit() {
+  litKey = litKeyNow();
   if (litAbort) litAbort.abort();
   litAbort = new AbortController();
   const signal = litAbort.signal;

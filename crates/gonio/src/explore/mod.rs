@@ -219,12 +219,13 @@ fn handle(state: &State, mut request: tiny_http::Request) {
     let reply = match (method, path.as_str()) {
         (tiny_http::Method::Post, "/api/upload") => upload(state, &mut request, &q),
         (tiny_http::Method::Post, "/api/stop") => {
-            if q.all("stream").contains(&"") {
-                let _ = request.respond(ApiError::param("stream", "", "a non-empty name").reply());
-                return;
+            let ids = q.all("stream");
+            if ids.contains(&"") {
+                Err(ApiError::param("stream", "", "a non-empty name"))
+            } else {
+                ids.iter().for_each(|id| state.streams.stop(id));
+                Ok(json(200, &j!({ "stopped": ids })))
             }
-            q.all("stream").into_iter().for_each(|id| state.streams.stop(id));
-            Ok(json(200, &j!({ "stopped": q.all("stream") })))
         }
         (tiny_http::Method::Get, p) => get(state, p, &q),
         (m, p) => Err(ApiError::new(
