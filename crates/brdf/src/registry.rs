@@ -36,6 +36,22 @@ macro_rules! by_value {
 }
 pub(crate) use by_value;
 
+/// The [`Build`] of a model read from a file by `$make(&dyn ParamSource) -> Result<Box<dyn Brdf>,
+/// ParamError>`: nothing of it varies over a surface, so the scoped build (which boxes) is used
+/// once per material, never per hit.
+macro_rules! boxed {
+    ($make:path) => {
+        $crate::registry::Build {
+            owned: $make,
+            scoped: |p, f| {
+                f(&*$make(p)?);
+                Ok(())
+            },
+        }
+    };
+}
+pub(crate) use boxed;
+
 /// A named model: its parameter descriptions and how to build it.
 #[derive(Clone, Copy)]
 pub struct ModelSpec {

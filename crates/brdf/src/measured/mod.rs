@@ -29,7 +29,7 @@ pub use tabulated_model::TabulatedBrdf;
 
 use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSource, ParamSpec};
-use crate::registry::{Build, ModelSpec};
+use crate::registry::ModelSpec;
 use radiometry::{Rgb, Vec2, Vec3};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -123,9 +123,7 @@ impl Brdf for Merl {
     }
 
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample> {
-        let (wi, pdf) = self.data.sampler.sample(wo, uc, u)?;
-        let weight = self.eval(wi, wo) * (wi.z / pdf);
-        weight.is_finite().then_some(BrdfSample { wi, pdf, weight, delta: false, eta: 1.0 })
+        self.data.sampler.sample_brdf(self, wo, uc, u)
     }
 
     fn claims(&self) -> Claims {
@@ -194,14 +192,6 @@ pub const SPEC: ModelSpec = ModelSpec {
     summary: "measured BRDF from a MERL .binary file, interpolated",
     reference: "Matusik et al. 2003, A Data-Driven Reflectance Model",
     params,
-    // Read from its file once: no parameter varies over a surface, so the scoped build (which
-    // boxes) is never used per hit.
-    build: Build {
-        owned: build,
-        scoped: |p, f| {
-            f(&*build(p)?);
-            Ok(())
-        },
-    },
+    build: crate::registry::boxed!(build),
     showcase: &[],
 };

@@ -151,6 +151,14 @@ impl TableSampler {
         p
     }
 
+    /// [`sample`](Self::sample) as the sample of the model `brdf` these tables were built from,
+    /// weighted by its ρ·cos θi / pdf.
+    pub fn sample_brdf(&self, brdf: &dyn crate::Brdf, wo: Vec3, uc: f32, u: Vec2) -> Option<crate::BrdfSample> {
+        let (wi, pdf) = self.sample(wo, uc, u)?;
+        let weight = brdf.eval(wi, wo) * (wi.z / pdf);
+        weight.is_finite().then_some(crate::BrdfSample { wi, pdf, weight, delta: false, eta: 1.0 })
+    }
+
     /// Draws wi for `wo`: `uc` chooses cosine or table sampling, `u` places the direction.
     /// Returns wi and its density, `None` below the horizon.
     pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<(Vec3, f32)> {

@@ -10,7 +10,7 @@
 use super::{TableSampler, Tabulated};
 use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSource, ParamSpec};
-use crate::registry::{Build, ModelSpec};
+use crate::registry::ModelSpec;
 use radiometry::{Rgb, Vec2, Vec3};
 use std::path::Path;
 use std::sync::Arc;
@@ -47,9 +47,7 @@ impl Brdf for TabulatedBrdf {
     }
 
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample> {
-        let (wi, pdf) = self.sampler.sample(wo, uc, u)?;
-        let weight = self.eval(wi, wo) * (wi.z / pdf);
-        weight.is_finite().then_some(BrdfSample { wi, pdf, weight, delta: false, eta: 1.0 })
+        self.sampler.sample_brdf(self, wo, uc, u)
     }
 
     fn claims(&self) -> Claims {
@@ -82,14 +80,7 @@ pub const SPEC: ModelSpec = ModelSpec {
     summary: "measured BRDF from a tabulated gonio-reflectometer text file, interpolated",
     reference: "gonio's tabulated text format (`gonio measure MODEL -o FILE.csv` writes it)",
     params,
-    // Nothing varies over a surface: the file is read once per material, never per hit.
-    build: Build {
-        owned: build,
-        scoped: |p, f| {
-            f(&*build(p)?);
-            Ok(())
-        },
-    },
+    build: crate::registry::boxed!(build),
     showcase: &[],
 };
 
