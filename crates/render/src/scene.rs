@@ -280,8 +280,17 @@ impl Scene {
     /// True when anything lies along the ray within (0, t_max).
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
+        self.occluded_but(ray, None)
+    }
+
+    /// [`occluded`](Self::occluded), not counting the analytic (non-mesh) primitives of shape
+    /// `skip`: a shadow ray towards a point on a convex emitter cannot be blocked by it.
+    #[inline]
+    fn occluded_but(&self, ray: &Ray, skip: Option<u32>) -> bool {
+        let counts = |k: usize| skip != Some(self.refs[k].0) || matches!(self.prims[k], Prim::Triangle { .. });
         if self.linear {
-            return (0..self.prims.len()).any(|k| self.intersect_prim(k, ray.o, ray.d, ray.t_max).is_some());
+            return (0..self.prims.len())
+                .any(|k| counts(k) && self.intersect_prim(k, ray.o, ray.d, ray.t_max).is_some());
         }
         self.bvh.walk_any(ray, |packs| {
             let r4 = Ray4::new(ray.o, ray.d);
@@ -294,7 +303,8 @@ impl Scene {
                     let k0 = self.bvh.pack(p).start;
                     let mut hit = false;
                     for_lanes(self.others[p] & !HAS_TRIANGLES, |lane| {
-                        hit = hit || self.intersect_prim(k0 + lane, ray.o, ray.d, ray.t_max).is_some();
+                        let k = k0 + lane;
+                        hit = hit || (counts(k) && self.intersect_prim(k, ray.o, ray.d, ray.t_max).is_some());
                     });
                     if hit {
                         return Visit::Stop;
@@ -306,11 +316,12 @@ impl Scene {
     }
 
     /// True when the light sample `ls` is unobstructed from surface point `p` (geometric
-    /// normal `ng`). A point on an area light is seen when the first thing the ray meets is
-    /// that shape (spheres and rectangles are convex: nothing of theirs can hide the point)
-    /// or, for a mesh, that shape at nearly that point. A shadow ray that merely stopped
-    /// short of the target would be blocked by a curved emitter itself wherever the ray
-    /// grazes it, since the origin's offset moves a grazing hit far along the ray.
+    /// normal `ng`). A point on an area light is seen when nothing lies along the ray up to a
+    /// tolerance short of it, an any-hit query that may stop at the first blocker. Spheres,
+    /// rectangles and disks are convex, so nothing of theirs can hide the point and their own
+    /// primitives are not counted: a shadow ray grazing a curved emitter would otherwise meet
+    /// it early, since the origin's offset moves a grazing hit far along the ray. A mesh
+    /// emitter counts like any other mesh (it may shade itself).
     pub fn unoccluded(&self, p: Vec3, ng: Vec3, ls: &LightSample) -> bool {
         if !ls.dist.is_finite() {
             return !self.occluded(&spawn_ray(p, ng, ls.wi));
@@ -318,15 +329,11 @@ impl Scene {
         let (mut ray, _, dist) = spawn_ray_to(p, ng, ls.p);
         let Some(shape) = ls.shape else { return !self.occluded(&ray) };
         let tolerance = 1e-3 * dist + surface_epsilon(ls.p);
-        ray.t_max = (ls.p - ray.o).length() + tolerance;
-        match self.intersect_t(&ray) {
-            None => true,
-            Some((k, t)) => {
-                self.refs[k].0 as usize == shape
-                    && (!matches!(self.shapes[shape].geometry, Geometry::Mesh(_))
-                        || ray.at(t).distance(ls.p) <= tolerance)
-            }
+        ray.t_max = (ls.p - ray.o).length() - tolerance;
+        if ray.t_max <= 0.0 {
+            return true;
         }
+        !self.occluded_but(&ray, Some(shape as u32))
     }
 
     /// The closest hit with its surface data.
