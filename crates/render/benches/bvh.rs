@@ -257,6 +257,39 @@ fn comparison(mesh: &TriangleMesh) {
         println!("  {name:<26}{row}");
     }
     println!("  ({} camera rays, {} random rays)", sets[0].1.len(), sets[1].1.len());
+    shadow_table(&pools, &c.scene);
+}
+
+/// Best-of-[`REPS`] Mrays/s of `query` over `rays` on `pool`.
+fn rate(pool: &rayon::ThreadPool, rays: &[Ray], query: &(dyn Fn(&Ray) -> bool + Sync)) -> f64 {
+    let best = (0..REPS)
+        .map(|_| {
+            timed(|| {
+                pool.install(|| {
+                    rays.par_chunks(CHUNK).map(|ch| ch.iter().filter(|r| query(black_box(r))).count()).sum::<usize>()
+                })
+            })
+            .1
+        })
+        .min()
+        .unwrap_or(Duration::MAX);
+    rays.len() as f64 / best.as_secs_f64().max(1e-9) * 1e-6
+}
+
+/// Shadow rays from the camera rays' hits towards a point light, as the renderer traces them
+/// (`Scene::occluded`, an any-hit query), against a closest-hit query of the same rays.
+fn shadow_table(pools: &[rayon::ThreadPool], scene: &Scene) {
+    let (_, _, shadow) = scene_rays(scene);
+    let any: &(dyn Fn(&Ray) -> bool + Sync) = &|r| scene.occluded(r);
+    let closest: &(dyn Fn(&Ray) -> bool + Sync) = &|r| scene.intersect_t(r).is_some();
+    let blocked = shadow.iter().filter(|r| scene.occluded(r)).count();
+    assert_eq!(blocked, shadow.iter().filter(|r| scene.intersect_t(r).is_some()).count(), "the two queries agree");
+    println!("shadow rays, Mrays/s (best of {REPS}; {} rays, {blocked} blocked):", shadow.len());
+    println!("  {:<26} {:>10} {:>10}", "", "1t", "2t");
+    for (name, q) in [("any hit (Scene::occluded)", any), ("closest hit (intersect_t)", closest)] {
+        let row: String = pools.iter().map(|p| format!(" {:>10.2}", rate(p, &shadow, q))).collect();
+        println!("  {name:<26}{row}");
+    }
 }
 
 fn torus_scene(mesh: TriangleMesh) -> Scene {
