@@ -49,16 +49,19 @@ impl Box3 {
     }
 }
 
+/// Subtrees of more primitives than this are built on another rayon task (both halves of a
+/// split at once); smaller ones on the calling thread.
+const PARALLEL_MIN: usize = 1 << 15;
+
 /// The binary tree over `bounds` (non-empty) and the permutation of the primitives it
-/// sorts into leaf order.
+/// sorts into leaf order. Large subtrees are built in parallel; the tree is the same
+/// whatever the thread count.
 pub(super) fn build_binary(bounds: &[Aabb]) -> (Vec<BinaryNode>, Vec<u32>) {
     let boxes: Vec<Box3> = bounds.iter().map(|b| Box3 { min: b.min.into(), max: b.max.into() }).collect();
     let centroids: Vec<Vec3A> = boxes.iter().map(|b| 0.5 * (b.min + b.max)).collect();
-    let mut b =
-        Builder { boxes: &boxes, centroids: &centroids, order: (0..bounds.len() as u32).collect(), nodes: Vec::new() };
-    b.nodes.reserve(bounds.len() / 2);
-    b.build(0, bounds.len(), 0);
-    (b.nodes, b.order)
+    let mut order: Vec<u32> = (0..bounds.len() as u32).collect();
+    let nodes = Prims { boxes: &boxes, centroids: &centroids }.subtree(&mut order, 0, 0);
+    (nodes, order)
 }
 
 /// The SAH cost of testing `n` primitives in one leaf, in four-wide tests.
@@ -67,55 +70,68 @@ fn leaf_cost(n: usize) -> f32 {
     n.div_ceil(4) as f32
 }
 
-struct Builder<'a> {
+/// The primitives' boxes and centroids, by original index.
+#[derive(Clone, Copy)]
+struct Prims<'a> {
     boxes: &'a [Box3],
     centroids: &'a [Vec3A],
-    order: Vec<u32>,
-    nodes: Vec<BinaryNode>,
 }
 
-impl Builder<'_> {
-    /// Builds the subtree over order[start..end]; returns its node index.
-    fn build(&mut self, start: usize, end: usize, depth: usize) -> usize {
-        let idx = self.nodes.len();
+impl Prims<'_> {
+    /// The subtree over `order` (primitives `first..` of the leaf order), its nodes in
+    /// depth-first order with child indices relative to its root.
+    fn subtree(self, order: &mut [u32], first: usize, depth: usize) -> Vec<BinaryNode> {
+        let n = order.len();
+        if n <= PARALLEL_MIN {
+            let mut b = Builder { prims: self, order, first, nodes: Vec::with_capacity(n / 2 + 1) };
+            b.build(0, n, depth);
+            return b.nodes;
+        }
+        let (bb, cb) = self.bounds(order);
+        let bounds = Aabb { min: bb.min.into(), max: bb.max.into() };
+        let split = if depth < SAH_DEPTH { self.find_split(order, &bb, &cb) } else { None };
+        let mid = split.unwrap_or(n / 2);
+        let (lo, hi) = order.split_at_mut(mid);
+        let (left, right) =
+            rayon::join(|| self.subtree(lo, first, depth + 1), || self.subtree(hi, first + mid, depth + 1));
+        // Root, then the left subtree, then the right one: indices shifted to their places.
+        let mut nodes = Vec::with_capacity(1 + left.len() + right.len());
+        nodes.push(BinaryNode { bounds, offset: (1 + left.len()) as u32, count: 0 });
+        for (sub, base) in [(&left, 1), (&right, 1 + left.len())] {
+            nodes.extend(sub.iter().map(|&nd| {
+                if nd.count == 0 {
+                    BinaryNode { offset: nd.offset + base as u32, ..nd }
+                } else {
+                    nd
+                }
+            }));
+        }
+        nodes
+    }
+
+    /// The box of the primitives in `order` and the box of their centroids.
+    fn bounds(&self, order: &[u32]) -> (Box3, Box3) {
         let mut bb = Box3::EMPTY;
         let mut cb = Box3::EMPTY;
-        for &p in &self.order[start..end] {
+        for &p in order {
             bb = bb.union(self.boxes[p as usize]);
             let c = self.centroids[p as usize];
             cb = cb.union(Box3 { min: c, max: c });
         }
-        let bounds = Aabb { min: bb.min.into(), max: bb.max.into() };
-        self.nodes.push(BinaryNode { bounds, offset: start as u32, count: (end - start) as u32 });
-        let n = end - start;
-        if n <= 1 {
-            return idx;
-        }
-        let split = if depth < SAH_DEPTH { self.find_split(start, end, &bb, &cb) } else { None };
-        let mid = match split {
-            Some(m) => m,
-            None if n <= MAX_LEAF => return idx,
-            // Inseparable by centroid, too deep, or SAH says leaf but too many: halve by index.
-            None => start + n / 2,
-        };
-        let left = self.build(start, mid, depth + 1);
-        debug_assert_eq!(left, idx + 1);
-        let right = self.build(mid, end, depth + 1);
-        self.nodes[idx].offset = right as u32;
-        self.nodes[idx].count = 0;
-        idx
+        (bb, cb)
     }
 
-    /// The SAH-best binned split of order[start..end], partitioned in place; None when a
-    /// leaf is cheaper (and allowed) or the centroids cannot be separated.
-    fn find_split(&mut self, start: usize, end: usize, bb: &Box3, cb: &Box3) -> Option<usize> {
-        let n = end - start;
+    /// The SAH-best binned split of `order`, partitioned in place (the index of the first
+    /// primitive on the right); None when a leaf is cheaper (and allowed) or the centroids
+    /// cannot be separated.
+    fn find_split(&self, order: &mut [u32], bb: &Box3, cb: &Box3) -> Option<usize> {
+        let n = order.len();
         let extent = cb.max - cb.min;
         // Axes of zero (or NaN) extent get scale 0: everything in bin 0, never a split.
         let scale = Vec3A::select(extent.cmpgt(Vec3A::ZERO), BINS as f32 / extent, Vec3A::ZERO);
         let mut bins = [[Box3::EMPTY; BINS]; 3];
         let mut counts = [[0usize; BINS]; 3];
-        for &p in &self.order[start..end] {
+        for &p in order.iter() {
             let b = bins_of(self.centroids[p as usize], cb.min, scale);
             let pb = self.boxes[p as usize];
             for axis in 0..3 {
@@ -157,20 +173,59 @@ impl Builder<'_> {
         if n <= MAX_LEAF && split_cost >= leaf_cost(n) {
             return None;
         }
-        let (lo, scale, centroids) = (cb.min, scale, self.centroids);
-        let slice = &mut self.order[start..end];
+        let (lo, centroids) = (cb.min, self.centroids);
         // In-place partition: primitives in bins below `split` go left.
         let mut i = 0;
-        let mut j = slice.len();
+        let mut j = n;
         while i < j {
-            if bins_of(centroids[slice[i] as usize], lo, scale)[axis] < split {
+            if bins_of(centroids[order[i] as usize], lo, scale)[axis] < split {
                 i += 1;
             } else {
                 j -= 1;
-                slice.swap(i, j);
+                order.swap(i, j);
             }
         }
-        (i > 0 && i < n).then_some(start + i)
+        (i > 0 && i < n).then_some(i)
+    }
+}
+
+/// The sequential build of one subtree into one node list.
+struct Builder<'a> {
+    prims: Prims<'a>,
+    order: &'a mut [u32],
+    /// Leaf-order index of `order[0]`.
+    first: usize,
+    nodes: Vec<BinaryNode>,
+}
+
+impl Builder<'_> {
+    /// Builds the subtree over order[start..end]; returns its node index.
+    fn build(&mut self, start: usize, end: usize, depth: usize) -> usize {
+        let idx = self.nodes.len();
+        let (bb, cb) = self.prims.bounds(&self.order[start..end]);
+        let bounds = Aabb { min: bb.min.into(), max: bb.max.into() };
+        self.nodes.push(BinaryNode { bounds, offset: (self.first + start) as u32, count: (end - start) as u32 });
+        let n = end - start;
+        if n <= 1 {
+            return idx;
+        }
+        let split = if depth < SAH_DEPTH {
+            self.prims.find_split(&mut self.order[start..end], &bb, &cb).map(|m| start + m)
+        } else {
+            None
+        };
+        let mid = match split {
+            Some(m) => m,
+            None if n <= MAX_LEAF => return idx,
+            // Inseparable by centroid, too deep, or SAH says leaf but too many: halve by index.
+            None => start + n / 2,
+        };
+        let left = self.build(start, mid, depth + 1);
+        debug_assert_eq!(left, idx + 1);
+        let right = self.build(mid, end, depth + 1);
+        self.nodes[idx].offset = right as u32;
+        self.nodes[idx].count = 0;
+        idx
     }
 }
 
@@ -179,4 +234,46 @@ impl Builder<'_> {
 fn bins_of(c: Vec3A, lo: Vec3A, scale: Vec3A) -> [usize; 3] {
     let b = ((c - lo) * scale).min(Vec3A::splat((BINS - 1) as f32));
     [b.x as usize, b.y as usize, b.z as usize]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    #[test]
+    fn the_parallel_build_makes_the_sequential_tree() {
+        // Boxes of a jittered grid, more than twice the size built on one thread.
+        let n = 3 * PARALLEL_MIN;
+        let mut s = 0x2545_f491_4f6c_dd1du64;
+        let mut rnd = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let bounds: Vec<Aabb> = (0..n)
+            .map(|_| {
+                let c = Vec3::new(rnd(), rnd(), rnd()) * 100.0;
+                Aabb { min: c, max: c + Vec3::new(rnd(), rnd(), rnd()) }
+            })
+            .collect();
+        let (nodes, order) = build_binary(&bounds);
+        let boxes: Vec<Box3> = bounds.iter().map(|b| Box3 { min: b.min.into(), max: b.max.into() }).collect();
+        let centroids: Vec<Vec3A> = boxes.iter().map(|b| 0.5 * (b.min + b.max)).collect();
+        let mut seq_order: Vec<u32> = (0..n as u32).collect();
+        let mut b = Builder {
+            prims: Prims { boxes: &boxes, centroids: &centroids },
+            order: &mut seq_order,
+            first: 0,
+            nodes: Vec::new(),
+        };
+        b.build(0, n, 0);
+        let seq = b.nodes;
+        assert_eq!(seq.len(), nodes.len());
+        for (k, (a, b)) in seq.iter().zip(&nodes).enumerate() {
+            assert!(a.offset == b.offset && a.count == b.count && a.bounds == b.bounds, "node {k}: {a:?} vs {b:?}");
+        }
+        assert_eq!(seq_order, order);
+    }
 }

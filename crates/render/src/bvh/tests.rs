@@ -116,6 +116,16 @@ fn triangle_soups_match_brute_force() {
 }
 
 #[test]
+fn a_soup_large_enough_for_the_parallel_build_matches_brute_force() {
+    let mut r = Rnd::new(4);
+    let mut b = builder();
+    // More than twice the size below which subtrees are built sequentially.
+    add(&mut b, Geometry::Mesh(soup(&mut r, 80_000, 0.15)));
+    let hits = check(&b.build().unwrap(), &mut r, 2000);
+    assert!(hits > 300, "the test must exercise hits: {hits}");
+}
+
+#[test]
 fn flat_grids_and_mixed_shapes_match_brute_force() {
     let mut r = Rnd::new(2);
     let mut b = builder();
