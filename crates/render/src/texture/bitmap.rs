@@ -84,6 +84,35 @@ pub struct Bitmap {
     pub options: BitmapOptions,
 }
 
+/// An image file's content, decoded but not yet given its lookup options: decoding, the slow
+/// part of loading, can then run for several files at once.
+pub struct Decoded(DecodedKind);
+
+enum DecodedKind {
+    /// EXR or Radiance HDR: linear floats.
+    Float(crate::image::Image),
+    /// PNG, JPEG and the other formats of the `image` crate.
+    Other(image::DynamicImage),
+}
+
+/// Decodes the image file at `path` (the format from its extension, else its content).
+pub fn decode(path: &Path) -> Result<Decoded> {
+    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
+    if ["exr", "hdr", "rgbe", "pic"].contains(&ext.as_str()) {
+        return Ok(Decoded(DecodedKind::Float(crate::image::Image::load(path)?)));
+    }
+    let mut reader = image::ImageReader::open(path).map_err(|e| Error::io(path, e))?;
+    reader = reader.with_guessed_format().map_err(|e| Error::io(path, e))?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_SIDE);
+    limits.max_image_height = Some(MAX_SIDE);
+    reader.limits(limits);
+    let img = reader.decode().map_err(|e| {
+        Error::format(path, format!("cannot decode the image (PNG, JPEG, BMP, TGA, EXR and HDR are read): {e}"))
+    })?;
+    Ok(Decoded(DecodedKind::Other(img)))
+}
+
 /// The sRGB decoding curve.
 pub fn srgb_to_linear(x: f64) -> f64 {
     if x <= 0.04045 {
@@ -109,23 +138,19 @@ fn byte_table(raw: bool) -> &'static [f32; 256] {
 impl Bitmap {
     /// Reads an image file (PNG, JPEG, BMP, TGA, OpenEXR, Radiance HDR) as a texture.
     pub fn load(path: &Path, options: BitmapOptions) -> Result<Bitmap> {
-        let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
-        if ["exr", "hdr", "rgbe", "pic"].contains(&ext.as_str()) {
-            let img = crate::image::Image::load(path)?;
-            let floats = img.pixels.iter().flat_map(|p| p.0).collect();
-            return Self::from_floats(img.width as usize, img.height as usize, 3, floats, options)
-                .map_err(|m| Error::format(path, m));
+        Self::from_decoded(path, decode(path)?, options)
+    }
+
+    /// The texture of an image file decoded by [`decode`] from `path`.
+    pub fn from_decoded(path: &Path, decoded: Decoded, options: BitmapOptions) -> Result<Bitmap> {
+        match decoded.0 {
+            DecodedKind::Float(img) => {
+                let floats = img.pixels.iter().flat_map(|p| p.0).collect();
+                Self::from_floats(img.width as usize, img.height as usize, 3, floats, options)
+            }
+            DecodedKind::Other(img) => Self::from_image(img, options),
         }
-        let mut reader = image::ImageReader::open(path).map_err(|e| Error::io(path, e))?;
-        reader = reader.with_guessed_format().map_err(|e| Error::io(path, e))?;
-        let mut limits = image::Limits::default();
-        limits.max_image_width = Some(MAX_SIDE);
-        limits.max_image_height = Some(MAX_SIDE);
-        reader.limits(limits);
-        let img = reader.decode().map_err(|e| {
-            Error::format(path, format!("cannot decode the image (PNG, JPEG, BMP, TGA, EXR and HDR are read): {e}"))
-        })?;
-        Self::from_image(img, options).map_err(|m| Error::format(path, m))
+        .map_err(|m| Error::format(path, m))
     }
 
     /// A texture from a decoded image: 8-bit stays bytes; 16-bit is decoded to floats now.
@@ -269,15 +294,14 @@ impl Bitmap {
     pub fn mean(&self) -> Rgb {
         let n = self.width * self.height;
         let mut sum = [0.0f64; 3];
-        for y in 0..self.height as i64 {
-            for x in 0..self.width as i64 {
-                for (s, c) in sum.iter_mut().zip(self.texel(x, y).0) {
-                    *s += c as f64;
-                }
+        // Straight over the stored values: no wrapping, no per-texel RGB assembly.
+        for k in 0..n {
+            let base = k * self.channels;
+            for (c, s) in sum.iter_mut().enumerate() {
+                *s += self.value(base + c.min(self.channels - 1)) as f64;
             }
         }
-        let m = sum.map(|s| (s / n.max(1) as f64) as f32);
-        Rgb(m)
+        Rgb(sum.map(|s| (s / n.max(1) as f64) as f32))
     }
 
     /// The smallest and largest texel channel.

@@ -6,7 +6,7 @@
 pub mod bitmap;
 pub mod checkerboard;
 
-pub use bitmap::{Bitmap, BitmapOptions, FilterType, WrapMode};
+pub use bitmap::{decode, Bitmap, BitmapOptions, Decoded, FilterType, WrapMode};
 pub use checkerboard::Checkerboard;
 
 use glam::{Mat4, Vec2};

@@ -86,6 +86,8 @@ pub struct Loader<'t> {
     pub materials: RefCell<HashMap<*const Elem, Material>>,
     /// Built textures, by element and use.
     pub textures: RefCell<HashMap<(*const Elem, SpectrumUse), crate::texture::Texture>>,
+    /// Bitmap files decoded ahead, by path; each is taken out by its first use.
+    pub decoded: RefCell<HashMap<PathBuf, crate::texture::Decoded>>,
     /// Area emitters declared with an id and attached to a shape.
     pub area_used: RefCell<HashSet<*const Elem>>,
 }
@@ -115,6 +117,7 @@ fn load(text: &str, file: &Path, base: &Path, defines: &[(String, String)]) -> R
         ids: Ids::new(root)?,
         materials: RefCell::new(HashMap::new()),
         textures: RefCell::new(HashMap::new()),
+        decoded: RefCell::new(texture::prefetch(root)),
         area_used: RefCell::new(HashSet::new()),
     };
     let mut integrator = None;

@@ -10,9 +10,12 @@ use super::error::XmlError;
 use super::parse::{plugin, Plugin, Spectrum, Val};
 use super::tree::Elem;
 use super::Loader;
-use crate::texture::{Bitmap, BitmapOptions, Checkerboard, FilterType, Texture, UvTransform, WrapMode};
+use crate::texture::{Bitmap, BitmapOptions, Decoded, Checkerboard, FilterType, Texture, UvTransform, WrapMode};
 use radiometry::cie::SpectrumUse;
 use radiometry::Rgb;
+use rayon::prelude::*;
+use std::collections::HashMap;
+use std::path::PathBuf;
 use std::sync::Arc;
 
 /// The texture types accepted.
@@ -72,7 +75,12 @@ fn build(ld: &Loader, e: &Elem, usage: SpectrumUse) -> Result<Texture, XmlError>
             p.bool("accel", true)?;
             let options = BitmapOptions { filter, wrap, raw: p.bool("raw", false)?, to_uv: to_uv(&p)? };
             let path = e.path(name);
-            let bitmap = Bitmap::load(&path, options).map_err(|err| p.err_at("filename", err.to_string()))?;
+            let decoded = ld.decoded.borrow_mut().remove(&path);
+            let bitmap = match decoded {
+                Some(d) => Bitmap::from_decoded(&path, d, options),
+                None => Bitmap::load(&path, options),
+            }
+            .map_err(|err| p.err_at("filename", err.to_string()))?;
             Ok(Texture::Bitmap(Arc::new(bitmap)))
         }
         "checkerboard" => {
@@ -85,6 +93,25 @@ fn build(ld: &Loader, e: &Elem, usage: SpectrumUse) -> Result<Texture, XmlError>
         }
         t => Err(p.err(format!("unsupported texture type '{t}'; accepted: {}", TYPES.join(", ")))),
     }
+}
+
+/// Decodes every bitmap file the tree below `root` names, several at once; a file that
+/// fails is left out, to be read again where it is used so that its error names that place.
+pub fn prefetch(root: &Elem) -> HashMap<PathBuf, Decoded> {
+    fn collect(e: &Elem, out: &mut Vec<PathBuf>) {
+        if e.tag == "texture" && e.attr("type") == Some("bitmap") {
+            let name = e.children.iter().find(|c| c.tag == "string" && c.attr("name") == Some("filename"));
+            if let Some(value) = name.and_then(|c| c.attr("value")) {
+                out.push(e.path(value));
+            }
+        }
+        e.children.iter().for_each(|c| collect(c, out));
+    }
+    let mut paths = Vec::new();
+    collect(root, &mut paths);
+    paths.sort();
+    paths.dedup();
+    paths.into_par_iter().filter_map(|p| crate::texture::decode(&p).ok().map(|d| (p, d))).collect()
 }
 
 fn to_uv(p: &Plugin) -> Result<UvTransform, XmlError> {
