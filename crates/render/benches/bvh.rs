@@ -258,6 +258,78 @@ fn comparison(mesh: &TriangleMesh) {
     }
     println!("  ({} camera rays, {} random rays)", sets[0].1.len(), sets[1].1.len());
     shadow_table(&pools, &c.scene);
+    packet_table(&pools, &c.scene, &sets[1].1);
+}
+
+/// The renderer's camera rays as it forms its packets: pixel by pixel along each row, a
+/// pixel's [`CAMERA_SPP`] samples one after another.
+fn camera_rays_by_pixel(cam: &Camera) -> Vec<Ray> {
+    let mut rays = Vec::with_capacity((cam.width * cam.height * CAMERA_SPP) as usize);
+    for y in 0..cam.height {
+        for x in 0..cam.width {
+            for s in 0..CAMERA_SPP {
+                let u = Sampler::new(7, u64::from(y * cam.width + x), u64::from(s)).next_2d();
+                rays.push(cam.ray(Vec2::new(x as f32, y as f32) + u, Vec2::splat(0.5)));
+            }
+        }
+    }
+    rays
+}
+
+/// Mrays/s of the renderer's queries on each instruction set, sixteen rays per call (one at a
+/// time for `scalar`): closest hits of camera rays (in the renderer's packet order) and of
+/// random rays, and shadow rays (any hit) from the camera hits towards a point light.
+fn packet_table(pools: &[rayon::ThreadPool], scene: &Scene, random: &[Ray]) {
+    use render::simd::{Simd, LANES};
+    let camera = camera_rays_by_pixel(&scene.camera);
+    let (_, _, shadow) = scene_rays(scene);
+    let lanes = |ch: &[Ray]| {
+        let mut p = [ch[0]; LANES];
+        p[..ch.len()].copy_from_slice(ch);
+        (p, (1u32 << ch.len()) - 1)
+    };
+    let none = [None; LANES];
+    println!("packets, Mrays/s (best of {REPS}; {LANES} rays per query):");
+    println!(
+        "  {:<26} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
+        "", "camera 1t", "camera 2t", "random 1t", "random 2t", "shadow 1t", "shadow 2t"
+    );
+    for simd in Simd::ALL.map(|(_, s)| s).into_iter().filter(|s| s.available()) {
+        let closest = |ch: &[Ray]| {
+            let (p, active) = lanes(ch);
+            scene.intersect_t_packet(black_box(&p), active, simd).iter().filter(|h| h.is_some()).count()
+        };
+        let any = |ch: &[Ray]| {
+            let (p, active) = lanes(ch);
+            scene.occluded_packet(black_box(&p), &none, active, simd).count_ones() as usize
+        };
+        let mut row = String::new();
+        for (rays, q) in
+            [(&camera[..], &closest as &(dyn Fn(&[Ray]) -> usize + Sync)), (random, &closest), (&shadow, &any)]
+        {
+            for pool in pools {
+                row += &format!(" {:>10.2}", packet_rate(pool, rays, q));
+            }
+        }
+        println!("  {:<26}{row}", simd.name());
+    }
+}
+
+/// Best-of-[`REPS`] Mrays/s of `query`, called on sixteen rays at a time, over `rays` on `pool`.
+fn packet_rate(pool: &rayon::ThreadPool, rays: &[Ray], query: &(dyn Fn(&[Ray]) -> usize + Sync)) -> f64 {
+    use render::simd::LANES;
+    let best = (0..REPS)
+        .map(|_| {
+            timed(|| {
+                pool.install(|| {
+                    rays.par_chunks(CHUNK).map(|ch| ch.chunks(LANES).map(query).sum::<usize>()).sum::<usize>()
+                })
+            })
+            .1
+        })
+        .min()
+        .unwrap_or(Duration::MAX);
+    rays.len() as f64 / best.as_secs_f64().max(1e-9) * 1e-6
 }
 
 /// Best-of-[`REPS`] Mrays/s of `query` over `rays` on `pool`.

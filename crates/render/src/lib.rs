@@ -38,6 +38,7 @@ pub mod renderer;
 pub mod sampler;
 pub mod scene;
 pub mod shape;
+pub mod simd;
 pub mod texture;
 pub mod xml;
 

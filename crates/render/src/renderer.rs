@@ -7,6 +7,7 @@ use crate::image::Image;
 use crate::integrator::Integrator;
 use crate::sampler::PixelKey;
 use crate::scene::Scene;
+use crate::simd::{Simd, LANES};
 use glam::Vec2;
 use radiometry::Rgb;
 use rayon::prelude::*;
@@ -26,11 +27,20 @@ pub struct RenderOptions {
     pub integrator: Integrator,
     /// Set to true (from anywhere) to stop early; the image then holds the samples taken.
     pub cancel: Option<Arc<AtomicBool>>,
+    /// The instruction set of ray queries (the image does not depend on it).
+    pub simd: Simd,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { spp: 16, seed: 0, threads: 0, integrator: Integrator::default(), cancel: None }
+        RenderOptions {
+            spp: 16,
+            seed: 0,
+            threads: 0,
+            integrator: Integrator::default(),
+            cancel: None,
+            simd: Simd::detect(),
+        }
     }
 }
 
@@ -110,9 +120,45 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
         (self.progress)(Progress { done: d, total: self.total });
     }
 
+    /// Takes samples `s0..s1` of every pixel of row `y` (of `w`), sixteen camera samples at a
+    /// time, and hands each to `out(x, film position, radiance)`, pixel by pixel and sample by
+    /// sample in order.
+    fn row_samples(&self, y: usize, w: usize, s0: u32, s1: u32, mut out: impl FnMut(usize, Vec2, Rgb)) {
+        let (scene, opts) = (self.scene, self.opts);
+        let ray = crate::ray::Ray::new(glam::Vec3::ZERO, glam::Vec3::Z);
+        let (mut rays, mut samplers) = ([ray; LANES], std::array::from_fn(|_| crate::sampler::Sampler::new(0, 0, 0)));
+        let mut at = [(0usize, Vec2::ZERO); LANES];
+        let mut n = 0;
+        let mut run = |n: usize, rays: &[crate::ray::Ray; LANES], samplers: &mut _, at: &[(usize, Vec2); LANES]| {
+            let active = if n == LANES { u32::MAX >> (32 - LANES) } else { (1 << n) - 1 };
+            let l = opts.integrator.li_packet(scene, rays, samplers, active, opts.simd);
+            for (&(x, pos), l) in at.iter().zip(l).take(n) {
+                out(x, pos, l);
+            }
+        };
+        for x in 0..w {
+            let key = PixelKey::new(opts.seed, (y * w + x) as u64);
+            for s in s0..s1 {
+                let mut sampler = key.sampler(s as u64);
+                let pos = Vec2::new(x as f32, y as f32) + sampler.next_2d();
+                rays[n] = camera_ray(scene, pos, &mut sampler);
+                samplers[n] = sampler;
+                at[n] = (x, pos);
+                n += 1;
+                if n == LANES {
+                    run(n, &rays, &mut samplers, &at);
+                    n = 0;
+                }
+            }
+        }
+        if n > 0 {
+            run(n, &rays, &mut samplers, &at);
+        }
+    }
+
     /// The box filter: each sample counts in its own pixel only.
     fn boxed(&self, w: usize, h: usize) -> Image {
-        let (scene, opts) = (self.scene, self.opts);
+        let opts = self.opts;
         let mut sums = vec![[0.0f64; 3]; w * h];
         let mut row_spp = vec![0u32; h];
         for (s0, s1) in passes(opts.spp) {
@@ -120,17 +166,11 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
                 if self.cancelled() {
                     return;
                 }
-                for (x, acc) in row.iter_mut().enumerate() {
-                    let key = PixelKey::new(opts.seed, (y * w + x) as u64);
-                    for s in s0..s1 {
-                        let mut sampler = key.sampler(s as u64);
-                        let pos = Vec2::new(x as f32, y as f32) + sampler.next_2d();
-                        let l = opts.integrator.li(scene, camera_ray(scene, pos, &mut sampler), &mut sampler);
-                        for (a, c) in acc.iter_mut().zip(l.0) {
-                            *a += c as f64;
-                        }
+                self.row_samples(y, w, s0, s1, |x, _, l| {
+                    for (a, c) in row[x].iter_mut().zip(l.0) {
+                        *a += c as f64;
                     }
-                }
+                });
                 *count = s1;
                 self.row_done(w, s1 - s0);
             });
@@ -168,17 +208,7 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
                     if self.cancelled() {
                         return;
                     }
-                    for x in 0..w {
-                        let key = PixelKey::new(opts.seed, (y * w + x) as u64);
-                        for s in s0..s1 {
-                            let mut sampler = key.sampler(s as u64);
-                            let pos = Vec2::new(x as f32, y as f32) + sampler.next_2d();
-                            buf.splat(
-                                pos,
-                                opts.integrator.li(scene, camera_ray(scene, pos, &mut sampler), &mut sampler),
-                            );
-                        }
-                    }
+                    self.row_samples(y, w, s0, s1, |_, pos, l| buf.splat(pos, l));
                     self.row_done(w, s1 - s0);
                 });
                 film.gather(b0, rows);

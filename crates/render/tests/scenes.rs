@@ -6,6 +6,7 @@ use radiometry::Rgb;
 use render::camera::{look_at, Camera, FovAxis};
 use render::light::{ConstantEnv, EnvMap, Light, PointLight};
 use render::shape::{Geometry, Rectangle, Sphere, TriangleMesh};
+use render::simd::Simd;
 use render::texture::Texture;
 use render::{render, Image, Integrator, RenderOptions, Scene, SceneBuilder, Shape};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -20,7 +21,7 @@ fn camera(origin: Vec3, target: Vec3, fov: f32, w: u32, h: u32) -> Camera {
 }
 
 fn opts(spp: u32, seed: u64, integrator: Integrator) -> RenderOptions {
-    RenderOptions { spp, seed, threads: 2, integrator, cancel: None }
+    RenderOptions { spp, seed, threads: 2, integrator, cancel: None, ..Default::default() }
 }
 
 /// Mean of the green channel over the pixels, and the standard error of that mean from the
@@ -411,4 +412,49 @@ fn bvh_hits_equal_brute_force() {
         assert_eq!(scene.occluded(&ray), slow.is_some());
     }
     assert!(hits > 5000, "the test must exercise hits: {hits}");
+}
+
+/// A closed room of triangles with an analytic sphere, a glass sphere and a rectangle light in
+/// it (leaves mixing triangles and other primitives), lit also by a point light.
+fn room_scene(gaussian: bool) -> Scene {
+    let mut cam = camera(Vec3::new(0.0, 0.0, 0.9), Vec3::new(0.0, -0.2, -1.0), 70.0, 24, 18);
+    if gaussian {
+        cam.filter = render::filter::Filter::gaussian(0.5).unwrap();
+    }
+    let mut b = SceneBuilder::new(cam);
+    b.shape(Shape::new(Geometry::Mesh(inward_cube()), lambert(0.7)));
+    let ggx: Arc<dyn brdf::Brdf> = brdf::build("ggx", &[("alpha", "0.2")]).unwrap().into();
+    b.shape(Shape::new(Geometry::Sphere(Sphere::new(Vec3::new(-0.4, -0.6, -0.4), 0.35)), ggx));
+    let glass: Arc<dyn brdf::Brdf> = brdf::build("dielectric", &[]).unwrap().into();
+    b.shape(Shape::new(Geometry::Sphere(Sphere::new(Vec3::new(0.45, -0.7, -0.2), 0.3)), glass));
+    let m = glam::Mat4::from_translation(Vec3::new(0.0, 0.99, -0.3))
+        * glam::Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2)
+        * glam::Mat4::from_scale(Vec3::splat(0.3));
+    let mut light = Shape::new(Geometry::Rectangle(Rectangle::new(&m).unwrap()), lambert(0.0));
+    light.emission = Some(Texture::Constant(Rgb::splat(8.0)));
+    b.shape(light);
+    b.light(Light::Point(PointLight { position: Vec3::new(0.5, 0.5, 0.5), intensity: Rgb::splat(0.5) }));
+    b.build().unwrap()
+}
+
+#[test]
+fn every_instruction_set_renders_the_scalar_image_bit_for_bit() {
+    // The packets round as single rays do, so any difference is a bug, not rounding.
+    let direct = Integrator::Direct {
+        samples: render::integrator::direct::DirectSamples { emitter: 4, bsdf: 1 },
+        hide_emitters: false,
+    };
+    let choices: Vec<Simd> = Simd::ALL.iter().map(|&(_, s)| s).filter(|s| s.available()).collect();
+    assert!(choices.contains(&Simd::Sse2), "the forced-SSE2 path always runs");
+    for (gaussian, integrator) in [(false, Integrator::path(8, 3)), (true, Integrator::path(8, 3)), (false, direct)] {
+        let scene = room_scene(gaussian);
+        let scalar = render(&scene, &RenderOptions { simd: Simd::Scalar, ..opts(6, 3, integrator) }, |_| {});
+        assert!(scalar.mean()[1] > 0.05, "the room is lit: {:?}", scalar.mean());
+        for &simd in &choices {
+            let img = render(&scene, &RenderOptions { simd, ..opts(6, 3, integrator) }, |_| {});
+            let same =
+                scalar.pixels.iter().zip(&img.pixels).all(|(a, b)| a.0.map(f32::to_bits) == b.0.map(f32::to_bits));
+            assert!(same, "{simd:?} with {integrator:?} (Gaussian filter: {gaussian})");
+        }
+    }
 }

@@ -54,6 +54,11 @@ pub struct RenderArgs {
     /// The estimator (default: the scene's own, the path tracer for the demo).
     #[arg(long)]
     pub integrator: Option<IntegratorArg>,
+    /// Instruction set of the ray queries: auto (the widest this CPU runs, or $GONIO_SIMD),
+    /// scalar (one ray at a time), sse2, avx2 or avx512 (sixteen rays at once). The image is the
+    /// same with every choice.
+    #[arg(long, default_value = "auto", value_parser = render::simd::Simd::parse_arg)]
+    pub simd: render::simd::Simd,
 }
 
 /// The process-wide cancel flag, set by Ctrl-C (the handler can be installed only once).
@@ -145,7 +150,8 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     if spp == 0 {
         bail!("--spp must be at least 1");
     }
-    let opts = RenderOptions { spp, seed: a.seed.unwrap_or(seed), threads: a.threads, integrator, cancel: None };
+    let opts =
+        RenderOptions { spp, seed: a.seed.unwrap_or(seed), threads: a.threads, integrator, cancel: None, simd: a.simd };
     let start = std::time::Instant::now();
     let (img, cancelled) = render_with_progress(&scene, &opts, "rendering");
     save_image(&img, &a.output, a.exposure, &inputs)?;

@@ -10,11 +10,13 @@
 //! that callers test together, e.g. as a [`Tri4`]. The hierarchy knows only boxes.
 
 mod build;
+mod packet;
 #[cfg(test)]
 mod tests;
 mod tri4;
 mod wide;
 
+pub use packet::{PacketLeaf, RayPacket};
 pub use tri4::{Ray4, Tri4};
 
 use crate::ray::Ray;

@@ -4,7 +4,9 @@
 use crate::camera::{look_at, Camera, FovAxis};
 use crate::ray::{spawn_ray, Ray};
 use crate::sampler::Sampler;
+use crate::scene::PacketHits;
 use crate::shape::{Disk, Geometry, Rectangle, Sphere, TriangleMesh};
+use crate::simd::{Simd, LANES};
 use crate::{Scene, SceneBuilder, Shape};
 use glam::{EulerRot, Mat4, Quat, Vec2, Vec3};
 use radiometry::warp::uniform_sphere;
@@ -78,9 +80,54 @@ fn agree(scene: &Scene, ray: &Ray) -> bool {
     slow.is_some()
 }
 
+/// Sixteen rays at a time, on every instruction set this CPU runs, against one at a time: the
+/// same distances bit for bit (the primitive may differ only at an exact tie) and the same
+/// occlusion, with some lanes inactive and some skipping one shape's analytic primitives.
+fn packets_agree(scene: &Scene, rays: &[Ray]) {
+    let shapes = scene.shapes().len() as u32;
+    for (c, chunk) in rays.chunks(LANES).enumerate() {
+        let mut lanes = [rays[0]; LANES];
+        lanes[..chunk.len()].copy_from_slice(chunk);
+        let full = (1u32 << chunk.len()) - 1;
+        let active = if c % 3 == 0 { full & 0xb5a7 } else { full };
+        let skip: [Option<u32>; LANES] = std::array::from_fn(|i| (i % 3 == 0).then(|| (c + i) as u32 % shapes.max(1)));
+        for simd in Simd::ALL.map(|(_, s)| s).into_iter().filter(|s| s.available()) {
+            // The packet kernels themselves, and the queries that choose them for coherent rays.
+            let hits = scene.intersect_t_packet_as(&lanes, active, simd);
+            let blocked = scene.occluded_packet_as(&lanes, &skip, active, simd);
+            let t = |h: &PacketHits| h.map(|h| h.map(|(_, t)| t.to_bits()));
+            assert_eq!(t(&hits), t(&scene.intersect_t_packet(&lanes, active, simd)));
+            assert_eq!(blocked, scene.occluded_packet(&lanes, &skip, active, simd));
+            for (i, ray) in lanes.iter().enumerate() {
+                let on = active >> i & 1 != 0;
+                let single = if on { scene.intersect_t(ray) } else { None };
+                match (hits[i], single) {
+                    (Some((kp, tp)), Some((ks, ts))) => {
+                        assert_eq!(tp.to_bits(), ts.to_bits(), "{simd:?} lane {i} {ray:?}");
+                        if kp != ks {
+                            assert_eq!(scene.interaction(ray, kp, tp).t, ts, "{simd:?}: a tie");
+                        }
+                    }
+                    (p, s) => assert_eq!(p, s, "{simd:?} lane {i} {ray:?}"),
+                }
+                let occluded = on && scene.occluded_but(ray, skip[i]);
+                assert_eq!(blocked >> i & 1 != 0, occluded, "{simd:?} lane {i} {ray:?} skip {:?}", skip[i]);
+            }
+        }
+    }
+}
+
 /// Random rays, axis-parallel rays, and rays leaving the surfaces those hit (offset as the
-/// renderer spawns them, and from the unrounded hit point itself).
+/// renderer spawns them, and from the unrounded hit point itself); then the same rays as
+/// packets.
 fn check(scene: &Scene, r: &mut Rnd, rays: usize) -> usize {
+    let mut all = Vec::new();
+    let hits = check_rays(scene, r, rays, &mut all);
+    packets_agree(scene, &all);
+    hits
+}
+
+fn check_rays(scene: &Scene, r: &mut Rnd, rays: usize, all: &mut Vec<Ray>) -> usize {
     let axes = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
     let mut hits = 0;
     for i in 0..rays {
@@ -92,13 +139,17 @@ fn check(scene: &Scene, r: &mut Rnd, rays: usize) -> usize {
             2 => ray.t_max = r.f(0.0, 8.0),
             _ => {}
         }
+        all.push(ray);
         if !agree(scene, &ray) {
             continue;
         }
         hits += 1;
         let si = scene.intersect(&ray).expect("a hit");
-        agree(scene, &spawn_ray(si.p, si.ng, r.dir()));
-        agree(scene, &Ray::new(ray.at(si.t), r.dir()));
+        let next = [spawn_ray(si.p, si.ng, r.dir()), Ray::new(ray.at(si.t), r.dir())];
+        for ray in next {
+            agree(scene, &ray);
+            all.push(ray);
+        }
     }
     hits
 }

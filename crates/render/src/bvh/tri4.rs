@@ -5,6 +5,8 @@
 //!
 //! [`intersect_triangle`]: crate::shape::mesh::intersect_triangle
 
+use super::RayPacket;
+use crate::simd::{self, F16, M16};
 use glam::{BVec4A, Vec3, Vec4};
 
 /// Four triangles as a corner and two edges, x/y/z lanes; unused lanes hold a degenerate
@@ -105,6 +107,28 @@ impl Tri4 {
     #[inline(always)]
     pub fn any(&self, r: &Ray4, t_max: f32) -> bool {
         self.hits(r, t_max).1.any()
+    }
+}
+
+impl Tri4 {
+    /// The triangle in lane `lane` against the sixteen rays of `p`: hit distances and the
+    /// lanes hit in (0, `t_max`), each computed as the scalar test computes it.
+    #[inline(always)]
+    pub fn hits_packet(&self, lane: usize, p: &RayPacket, t_max: &F16) -> (F16, M16) {
+        let s = |w: &[Vec4; 3]| [F16::splat(w[0][lane]), F16::splat(w[1][lane]), F16::splat(w[2][lane])];
+        let (p0, e1, e2) = (s(&self.p0), s(&self.e1), s(&self.e2));
+        let pvec = simd::cross(&p.d, &e2);
+        let det = simd::dot(&e1, &pvec);
+        let inv = F16::splat(1.0) / det;
+        let tvec = [p.o[0] - p0[0], p.o[1] - p0[1], p.o[2] - p0[2]];
+        let u = simd::dot(&tvec, &pvec) * inv;
+        let qvec = simd::cross(&tvec, &e1);
+        let v = simd::dot(&p.d, &qvec) * inv;
+        let t = simd::dot(&e2, &qvec) * inv;
+        let (zero, one) = (F16::splat(0.0), F16::splat(1.0));
+        let ok = det.ne(zero).and(u.ge(zero)).and(u.le(one)).and(v.ge(zero)).and((u + v).le(one));
+        let ok = ok.and(t.gt(zero)).and(t.lt(*t_max));
+        (t, ok)
     }
 }
 

@@ -51,10 +51,10 @@ impl Node4 {
 /// Direction components smaller than this are replaced by it (keeping the sign), so that
 /// 1/d stays finite and the slab test never computes 0·∞. The ray then drifts by at most
 /// 1e-20 per unit length, far below any box's rounding.
-const MIN_DIRECTION: f32 = 1e-20;
+pub(super) const MIN_DIRECTION: f32 = 1e-20;
 /// pbrt's γ₃ = 3ε/(1 − 3ε) with ε = 2⁻²⁴, the bound on the relative error of the slab
 /// distances; far distances are scaled by 1 + 2γ₃.
-const FAR_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+pub(super) const FAR_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
 /// A ray prepared for box tests: origin and inverse direction splatted over the lanes, and
 /// which corner (0 lower, 1 upper) is the near one on each axis.

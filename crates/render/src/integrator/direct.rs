@@ -11,11 +11,11 @@
 //! Mitsuba 3.9.1 renders, and a scene means what it renders there.
 
 use crate::integrator::path::first_hit;
-use crate::integrator::power_heuristic;
+use crate::integrator::{finite, power_heuristic};
 use crate::light::RefPoint;
 use crate::ray::{spawn_ray, Ray};
 use crate::sampler::Sampler;
-use crate::scene::Scene;
+use crate::scene::{Scene, ShadowTest, SurfaceInteraction};
 use radiometry::Rgb;
 
 /// The sample counts of the estimator.
@@ -29,14 +29,35 @@ pub struct DirectSamples {
 
 /// The direct-lighting radiance estimate along `ray`.
 pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler, n: DirectSamples, hide_emitters: bool) -> Rgb {
+    let first = first_hit(scene, ray, hide_emitters);
+    let mut lit = Rgb::ZERO;
+    let unlit = estimate(scene, ray, first, sampler, n, hide_emitters, &mut |test, c| {
+        if scene.visible(test) {
+            lit += c;
+        }
+    });
+    finite(unlit + lit)
+}
+
+/// The estimate along camera ray `ray` whose first surface is `first`, its light samples'
+/// shadow tests handed to `shadow` as [`path::trace`](super::path::trace) does.
+pub fn estimate(
+    scene: &Scene,
+    ray: Ray,
+    first: Option<SurfaceInteraction>,
+    sampler: &mut Sampler,
+    n: DirectSamples,
+    hide_emitters: bool,
+    shadow: &mut impl FnMut(ShadowTest, Rgb),
+) -> Rgb {
     let mut result = Rgb::ZERO;
-    let Some(si) = first_hit(scene, ray, hide_emitters) else {
+    let Some(si) = first else {
         if !hide_emitters {
             if let Some((le, _)) = scene.environment_eval(ray.d, None) {
                 result += le;
             }
         }
-        return finite(result);
+        return result;
     };
     let wo_world = -ray.d;
     if !hide_emitters {
@@ -46,7 +67,7 @@ pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler, n: DirectSamples, hide
     }
     let wo = si.frame.to_local(wo_world);
     if !(wo.z != 0.0) {
-        return finite(result);
+        return result;
     }
     let total = (n.emitter + n.bsdf).max(1) as f32;
     let (frac_e, frac_b) = (n.emitter as f32 / total, n.bsdf as f32 / total);
@@ -65,11 +86,11 @@ pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler, n: DirectSamples, hide
                 continue;
             }
             let (f, brdf_pdf) = brdf.eval_pdf(wi, wo);
-            if f.is_black() || !scene.unoccluded(si.p, si.ng, &ls) {
+            if f.is_black() {
                 continue;
             }
             let w = if ls.delta { 1.0 } else { power_heuristic(ls.pdf * frac_e, brdf_pdf * frac_b) / n.emitter as f32 };
-            result += f * ls.li * (wi.z.abs() * w / ls.pdf);
+            shadow(scene.shadow_ray(si.p, si.ng, &ls), f * ls.li * (wi.z.abs() * w / ls.pdf));
         }
         for _ in 0..n.bsdf {
             let (uc, u) = (sampler.next_1d(), sampler.next_2d());
@@ -99,14 +120,5 @@ pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler, n: DirectSamples, hide
             }
         }
     });
-    finite(result)
-}
-
-/// A non-finite estimate only comes from a model bug: dropped rather than poisoning a pixel.
-fn finite(c: Rgb) -> Rgb {
-    if c.is_finite() {
-        c
-    } else {
-        Rgb::ZERO
-    }
+    result
 }

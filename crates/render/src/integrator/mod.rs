@@ -1,6 +1,7 @@
 //! Integrators: estimators of the radiance arriving along a camera ray.
 
 pub mod direct;
+mod packet;
 pub mod path;
 pub mod phong;
 
@@ -66,6 +67,16 @@ impl Integrator {
             Integrator::Direct { samples, hide_emitters } => direct::li(scene, ray, sampler, samples, hide_emitters),
             Integrator::Phong { shadows } => phong::li(scene, ray, shadows),
         }
+    }
+}
+
+/// A non-finite estimate only comes from a model bug: dropped rather than poisoning a pixel.
+#[inline]
+pub(crate) fn finite(c: Rgb) -> Rgb {
+    if c.is_finite() {
+        c
+    } else {
+        Rgb::ZERO
     }
 }
 

@@ -21,11 +21,11 @@
 //! environment is not seen by paths that have only passed straight through surfaces (Mitsuba
 //! 3's rule; emitters seen in mirrors or through glass stay, and they light the scene).
 
-use crate::integrator::power_heuristic;
+use crate::integrator::{finite, power_heuristic};
 use crate::light::RefPoint;
 use crate::ray::{spawn_ray, Ray};
 use crate::sampler::Sampler;
-use crate::scene::{Scene, SurfaceInteraction};
+use crate::scene::{Scene, ShadowTest, SurfaceInteraction};
 use radiometry::Rgb;
 
 /// What the previous vertex's BRDF sample needs for the MIS weight of emission found next.
@@ -44,21 +44,58 @@ enum Step {
 }
 
 /// The first surface the camera ray meets; with `hide` it passes through area lights.
-pub fn first_hit(scene: &Scene, mut ray: Ray, hide: bool) -> Option<SurfaceInteraction> {
+pub fn first_hit(scene: &Scene, ray: Ray, hide: bool) -> Option<SurfaceInteraction> {
+    past_hidden(scene, ray, scene.intersect(&ray), hide)
+}
+
+/// `hit`, the closest hit of camera ray `ray`, or with `hide` the first surface behind it that
+/// is not an area light.
+pub fn past_hidden(
+    scene: &Scene,
+    mut ray: Ray,
+    mut hit: Option<SurfaceInteraction>,
+    hide: bool,
+) -> Option<SurfaceInteraction> {
     loop {
-        let si = scene.intersect(&ray)?;
+        let si = hit?;
         if !hide || scene.area_light(si.shape).is_none() {
             return Some(si);
         }
         let t_max = ray.t_max - si.t;
         ray = spawn_ray(si.p, si.ng, ray.d);
         ray.t_max = t_max;
+        hit = scene.intersect(&ray);
     }
 }
 
 /// The radiance estimate along `ray` with paths of at most `max_depth` vertices and
 /// Russian roulette from `rr_depth` on.
 pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler, max_depth: u32, rr_depth: u32, hide_emitters: bool) -> Rgb {
+    let first = if max_depth == 0 { None } else { first_hit(scene, ray, hide_emitters) };
+    let mut lit = Rgb::ZERO;
+    let unlit = trace(scene, ray, first, sampler, max_depth, rr_depth, hide_emitters, &mut |test, c| {
+        if scene.visible(test) {
+            lit += c;
+        }
+    });
+    finite(unlit + lit)
+}
+
+/// The path from camera ray `ray` whose first surface is `first`: returns the radiance found
+/// without shadow rays, and hands each light sample's shadow test (see [`Scene::shadow_ray`])
+/// with the radiance it adds when the light is visible to `shadow`, which may answer it at once
+/// or later: the path does not depend on it.
+#[allow(clippy::too_many_arguments)]
+pub fn trace(
+    scene: &Scene,
+    ray: Ray,
+    first: Option<SurfaceInteraction>,
+    sampler: &mut Sampler,
+    max_depth: u32,
+    rr_depth: u32,
+    hide_emitters: bool,
+    shadow: &mut impl FnMut(ShadowTest, Rgb),
+) -> Rgb {
     let mut result = Rgb::ZERO;
     let mut beta = Rgb::ONE;
     // Product of the index ratios crossed: β η² is the path's weight in power.
@@ -72,7 +109,7 @@ pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler, max_depth: u32, rr_dep
         return result;
     }
     let mut ray = ray;
-    let mut hit = first_hit(scene, ray, hide_emitters);
+    let mut hit = first;
     loop {
         let Some(si) = hit else {
             if !hide_emitters || scattered {
@@ -122,9 +159,9 @@ pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler, max_depth: u32, rr_dep
                 let wi = si.frame.to_local(ls.wi);
                 if usable(wi.z) {
                     let (f, brdf_pdf) = brdf.eval_pdf(wi, wo);
-                    if !f.is_black() && scene.unoccluded(si.p, si.ng, &ls) {
+                    if !f.is_black() {
                         let w = if ls.delta { 1.0 } else { power_heuristic(ls.pdf, brdf_pdf) };
-                        result += beta * f * ls.li * (wi.z.abs() * w / ls.pdf);
+                        shadow(scene.shadow_ray(si.p, si.ng, &ls), beta * f * ls.li * (wi.z.abs() * w / ls.pdf));
                     }
                 }
             }
@@ -164,10 +201,5 @@ pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler, max_depth: u32, rr_dep
         }
         hit = scene.intersect(&ray);
     }
-    // A path can only go non-finite through a model bug; drop it rather than poison a pixel.
-    if result.is_finite() {
-        result
-    } else {
-        Rgb::ZERO
-    }
+    result
 }

@@ -10,7 +10,7 @@ use super::error::XmlError;
 use super::parse::{plugin, Plugin, Spectrum, Val};
 use super::tree::Elem;
 use super::Loader;
-use crate::texture::{Bitmap, BitmapOptions, Decoded, Checkerboard, FilterType, Texture, UvTransform, WrapMode};
+use crate::texture::{Bitmap, BitmapOptions, Checkerboard, Decoded, FilterType, Texture, UvTransform, WrapMode};
 use radiometry::cie::SpectrumUse;
 use radiometry::Rgb;
 use rayon::prelude::*;

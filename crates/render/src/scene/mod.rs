@@ -1,6 +1,10 @@
 //! A scene: a camera, shapes each with a material (and optionally an emission), lights, and
 //! the BVH over every primitive. Built once with [`SceneBuilder`], then only read.
 
+mod packet;
+
+pub use packet::PacketHits;
+
 use crate::bvh::{Bvh, Ray4, Tri4, Visit};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
@@ -69,6 +73,10 @@ impl SurfaceInteraction {
         SurfaceInteraction { t, p: s.p, ng: s.ng, frame: s.frame(), uv: s.uv, dp_du: s.dp_du, dp_dv: s.dp_dv, shape }
     }
 }
+
+/// A shadow ray and the shape whose primitives it does not count ([`Scene::shadow_ray`]); None
+/// when nothing can block it.
+pub type ShadowTest = Option<(Ray, Option<u32>)>;
 
 /// Collects shapes and lights; `build` makes the BVH and the area lights.
 pub struct SceneBuilder {
@@ -286,7 +294,7 @@ impl Scene {
     /// [`occluded`](Self::occluded), not counting the analytic (non-mesh) primitives of shape
     /// `skip`: a shadow ray towards a point on a convex emitter cannot be blocked by it.
     #[inline]
-    fn occluded_but(&self, ray: &Ray, skip: Option<u32>) -> bool {
+    pub(crate) fn occluded_but(&self, ray: &Ray, skip: Option<u32>) -> bool {
         let counts = |k: usize| skip != Some(self.refs[k].0) || matches!(self.prims[k], Prim::Triangle { .. });
         if self.linear {
             return (0..self.prims.len())
@@ -323,22 +331,36 @@ impl Scene {
     /// it early, since the origin's offset moves a grazing hit far along the ray. A mesh
     /// emitter counts like any other mesh (it may shade itself).
     pub fn unoccluded(&self, p: Vec3, ng: Vec3, ls: &LightSample) -> bool {
+        self.visible(self.shadow_ray(p, ng, ls))
+    }
+
+    /// The answer to a shadow test: true when nothing blocks it.
+    #[inline]
+    pub fn visible(&self, test: ShadowTest) -> bool {
+        test.is_none_or(|(ray, skip)| !self.occluded_but(&ray, skip))
+    }
+
+    /// The shadow ray of [`unoccluded`](Self::unoccluded) and the shape whose primitives it does
+    /// not count; None when the light point is too close to be blocked.
+    pub fn shadow_ray(&self, p: Vec3, ng: Vec3, ls: &LightSample) -> ShadowTest {
         if !ls.dist.is_finite() {
-            return !self.occluded(&spawn_ray(p, ng, ls.wi));
+            return Some((spawn_ray(p, ng, ls.wi), None));
         }
         let (mut ray, _, dist) = spawn_ray_to(p, ng, ls.p);
-        let Some(shape) = ls.shape else { return !self.occluded(&ray) };
+        let Some(shape) = ls.shape else { return Some((ray, None)) };
         let tolerance = 1e-3 * dist + surface_epsilon(ls.p);
         ray.t_max = (ls.p - ray.o).length() - tolerance;
-        if ray.t_max <= 0.0 {
-            return true;
-        }
-        !self.occluded_but(&ray, Some(shape as u32))
+        (ray.t_max > 0.0).then_some((ray, Some(shape as u32)))
     }
 
     /// The closest hit with its surface data.
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
         let (k, t) = self.intersect_t(ray)?;
+        Some(self.interaction(ray, k, t))
+    }
+
+    /// The surface data where `ray` meets BVH-ordered primitive `k` at distance `t`.
+    pub fn interaction(&self, ray: &Ray, k: usize, t: f32) -> SurfaceInteraction {
         let (shape, index) = self.refs[k];
         let surface = match (&self.prims[k], &self.shapes[shape as usize].geometry) {
             (Prim::Triangle { p0, e1, e2 }, Geometry::Mesh(m)) => {
@@ -351,7 +373,7 @@ impl Scene {
             (_, Geometry::Disk(dk)) => dk.surface(ray.at(t)),
             _ => unreachable!("primitive and shape kinds always match"),
         };
-        Some(SurfaceInteraction::new(t, &surface, shape as usize))
+        SurfaceInteraction::new(t, &surface, shape as usize)
     }
 
     /// The material of shape `shape`.

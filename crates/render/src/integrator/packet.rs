@@ -1,0 +1,109 @@
+//! Sixteen camera samples at once. Their camera rays, which start at one pixel or its
+//! neighbours and so are coherent, find their first surfaces as one packet; each path is then
+//! traced on its own, and its shadow tests wait in a queue that answers them sixteen at a time
+//! as a packet. A path never depends on its shadow tests, only its sum does, and each lane adds
+//! its visible contributions in the order it made them: every lane gets exactly the estimate
+//! the one-ray-at-a-time integrator gives it.
+
+use super::{direct, finite, path, phong, Integrator};
+use crate::ray::Ray;
+use crate::sampler::Sampler;
+use crate::scene::{Scene, ShadowTest};
+use crate::simd::{for_bits, Simd, LANES};
+use radiometry::Rgb;
+
+/// Shadow tests waiting to be answered as a packet, with what each adds to its lane if visible.
+struct ShadowQueue<'a> {
+    scene: &'a Scene,
+    simd: Simd,
+    rays: [Ray; LANES],
+    skip: [Option<u32>; LANES],
+    /// Bit i: entry i has a ray to test (else it is visible without one).
+    tested: u32,
+    add: [(usize, Rgb); LANES],
+    len: usize,
+    /// Per lane, the sum of its visible contributions so far.
+    lit: [Rgb; LANES],
+}
+
+impl<'a> ShadowQueue<'a> {
+    fn new(scene: &'a Scene, simd: Simd) -> Self {
+        let ray = Ray::new(glam::Vec3::ZERO, glam::Vec3::Z);
+        ShadowQueue {
+            scene,
+            simd,
+            rays: [ray; LANES],
+            skip: [None; LANES],
+            tested: 0,
+            add: [(0, Rgb::ZERO); LANES],
+            len: 0,
+            lit: [Rgb::ZERO; LANES],
+        }
+    }
+
+    fn push(&mut self, lane: usize, test: ShadowTest, c: Rgb) {
+        if let Some((ray, skip)) = test {
+            self.rays[self.len] = ray;
+            self.skip[self.len] = skip;
+            self.tested |= 1 << self.len;
+        }
+        self.add[self.len] = (lane, c);
+        self.len += 1;
+        if self.len == LANES {
+            self.flush();
+        }
+    }
+
+    fn flush(&mut self) {
+        let blocked = self.scene.occluded_packet(&self.rays, &self.skip, self.tested, self.simd);
+        for (k, &(lane, c)) in self.add[..self.len].iter().enumerate() {
+            if blocked >> k & 1 == 0 {
+                self.lit[lane] += c;
+            }
+        }
+        (self.len, self.tested) = (0, 0);
+    }
+}
+
+impl Integrator {
+    /// The estimates along the camera rays of lanes `active`, each drawing from its own sampler:
+    /// for every lane what [`li`](Self::li) gives, ray queries made on the instruction set
+    /// `simd` (sixteen at a time unless it is [`Simd::Scalar`]).
+    pub fn li_packet(
+        &self,
+        scene: &Scene,
+        rays: &[Ray; LANES],
+        samplers: &mut [Sampler; LANES],
+        active: u32,
+        simd: Simd,
+    ) -> [Rgb; LANES] {
+        let mut out = [Rgb::ZERO; LANES];
+        if let Integrator::Phong { shadows } = *self {
+            for_bits(active, |i| out[i] = phong::li(scene, rays[i], shadows));
+            return out;
+        }
+        let hits = scene.intersect_t_packet(rays, active, simd);
+        let mut queue = ShadowQueue::new(scene, simd);
+        let mut unlit = [Rgb::ZERO; LANES];
+        for_bits(active, |i| {
+            let (ray, sampler) = (rays[i], &mut samplers[i]);
+            let mut shadow = |test: ShadowTest, c: Rgb| queue.push(i, test, c);
+            unlit[i] = match *self {
+                Integrator::Path { max_depth, rr_depth, hide_emitters } => {
+                    let hit = hits[i].filter(|_| max_depth > 0).map(|(k, t)| scene.interaction(&ray, k, t));
+                    let first = path::past_hidden(scene, ray, hit, hide_emitters);
+                    path::trace(scene, ray, first, sampler, max_depth, rr_depth, hide_emitters, &mut shadow)
+                }
+                Integrator::Direct { samples, hide_emitters } => {
+                    let hit = hits[i].map(|(k, t)| scene.interaction(&ray, k, t));
+                    let first = path::past_hidden(scene, ray, hit, hide_emitters);
+                    direct::estimate(scene, ray, first, sampler, samples, hide_emitters, &mut shadow)
+                }
+                Integrator::Phong { .. } => unreachable!("answered above"),
+            };
+        });
+        queue.flush();
+        for_bits(active, |i| out[i] = finite(unlit[i] + queue.lit[i]));
+        out
+    }
+}
