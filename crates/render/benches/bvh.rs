@@ -259,6 +259,132 @@ fn comparison(mesh: &TriangleMesh) {
     println!("  ({} camera rays, {} random rays)", sets[0].1.len(), sets[1].1.len());
     shadow_table(&pools, &c.scene);
     packet_table(&pools, &c.scene, &sets[1].1);
+    cost_split(&c.scene);
+}
+
+/// Where one camera sample's time goes, on one thread, for a direct-lighting sample with one
+/// bounce on the torus: each stage of the renderer timed over every sample of a 512² image
+/// (ns per camera sample). The stages are those `Integrator::li_packet` runs, apart.
+fn cost_split(torus: &Scene) {
+    use render::film::SplatFilm;
+    use render::light::RefPoint;
+    use render::sampler::PixelKey;
+    use render::simd::{Simd, LANES};
+    let simd = Simd::detect();
+    // The torus lit by a rectangle light above it.
+    let mut b = SceneBuilder::new(camera());
+    let mesh = torus.shapes()[0].clone();
+    b.shape(mesh);
+    let m = glam::Mat4::from_translation(Vec3::new(0.0, 3.0, 0.0))
+        * glam::Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    let dark: std::sync::Arc<dyn brdf::Brdf> = brdf::build("lambert", &[("albedo", "0")]).expect("lambert").into();
+    let mut light = Shape::new(Geometry::Rectangle(render::shape::Rectangle::new(&m).expect("a rectangle")), dark);
+    light.emission = Some(render::texture::Texture::Constant(radiometry::Rgb::splat(5.0)));
+    b.shape(light);
+    let scene = b.build().expect("a valid scene");
+    let cam = &scene.camera;
+    let n = (cam.width * cam.height) as usize;
+    let mut stages: Vec<(&str, f64)> = Vec::new();
+    let mut time = |name, f: &mut dyn FnMut()| {
+        let best = (0..3).map(|_| timed(&mut *f).1).min().unwrap_or(Duration::MAX);
+        stages.push((name, best.as_secs_f64() * 1e9 / n as f64));
+    };
+    let mut samplers = Vec::new();
+    let mut rays = Vec::new();
+    time("camera ray and sampler", &mut || {
+        samplers.clear();
+        rays.clear();
+        for pixel in 0..n as u64 {
+            let mut s = PixelKey::new(3, pixel).sampler(0);
+            let pos = Vec2::new((pixel % cam.width as u64) as f32, (pixel / cam.width as u64) as f32) + s.next_2d();
+            rays.push(cam.ray(pos, Vec2::splat(0.5)));
+            samplers.push(s);
+        }
+    });
+    let packets = |rays: &[Ray]| -> Vec<([Ray; LANES], u32)> {
+        rays.chunks(LANES)
+            .map(|ch| {
+                let mut p = [ch[0]; LANES];
+                p[..ch.len()].copy_from_slice(ch);
+                (p, (1u32 << ch.len()) - 1)
+            })
+            .collect()
+    };
+    let camera_packets = packets(&rays);
+    let mut hits = Vec::new();
+    time("camera rays (packets)", &mut || {
+        hits.clear();
+        for (p, active) in &camera_packets {
+            hits.extend(scene.intersect_t_packet(p, *active, simd).into_iter().take(active.count_ones() as usize));
+        }
+    });
+    let mut interactions = Vec::new();
+    time("surface data at the hits", &mut || {
+        interactions =
+            rays.iter().zip(&hits).filter_map(|(r, h)| h.map(|(k, t)| (r.d, scene.interaction(r, k, t)))).collect();
+    });
+    let mut bounces = Vec::new();
+    let mut shadows = Vec::new();
+    time("BRDF sample and eval", &mut || {
+        bounces.clear();
+        for ((d, si), s) in interactions.iter().zip(samplers.iter_mut()) {
+            let wo = si.frame.to_local(-*d);
+            scene.material(si.shape).with(si, |brdf| {
+                if let Some(bs) = brdf.sample(wo, s.next_1d(), s.next_2d()) {
+                    black_box(brdf.eval_pdf(bs.wi, wo));
+                    bounces.push(spawn_ray(si.p, si.ng, si.frame.to_world(bs.wi)));
+                }
+            });
+        }
+    });
+    time("light sample and shadow ray", &mut || {
+        shadows.clear();
+        for ((_, si), s) in interactions.iter().zip(samplers.iter_mut()) {
+            let r = RefPoint { p: si.p, n: Some(si.frame.n) };
+            if let Some(ls) = scene.sample_light(&r, s.next_1d(), s.next_1d(), s.next_2d()) {
+                if let Some((ray, _)) = scene.shadow_ray(si.p, si.ng, &ls) {
+                    shadows.push(ray);
+                }
+            }
+        }
+    });
+    let shadow_packets = packets(&shadows);
+    let none = [None; LANES];
+    time("shadow rays (packets)", &mut || {
+        for (p, active) in &shadow_packets {
+            black_box(scene.occluded_packet(p, &none, *active, simd));
+        }
+    });
+    time("bounce rays (one at a time)", &mut || {
+        for r in &bounces {
+            black_box(scene.intersect_t(r));
+        }
+    });
+    time("film (Gaussian splats)", &mut || {
+        let filter = render::filter::Filter::gaussian(0.5).expect("a filter");
+        let film = SplatFilm::new(&filter, cam.width as usize, cam.height as usize);
+        let mut row = film.row_splats();
+        for (pixel, _) in rays.iter().enumerate() {
+            let y = pixel / cam.width as usize;
+            if pixel % cam.width as usize == 0 {
+                row.reset(y);
+            }
+            row.splat(Vec2::new((pixel % cam.width as usize) as f32 + 0.5, y as f32 + 0.5), radiometry::Rgb::ONE);
+        }
+        black_box(&row);
+    });
+    let total: f64 = stages.iter().map(|s| s.1).sum();
+    println!(
+        "cost of one camera sample, one thread ({} packets; {n} samples, {} hits, {} bounces, {} shadow rays):",
+        simd.name(),
+        interactions.len(),
+        bounces.len(),
+        shadows.len()
+    );
+    for (name, ns) in &stages {
+        println!("  {name:<30} {ns:>8.1} ns  {:>5.1} %", 100.0 * ns / total);
+    }
+    println!("  {:<30} {total:>8.1} ns", "total");
 }
 
 /// The renderer's camera rays as it forms its packets: pixel by pixel along each row, a
