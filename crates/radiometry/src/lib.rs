@@ -3,6 +3,7 @@
 //!
 //! Directions are unit `Vec3` in a z-up local frame: `cos_theta(w) = w.z`.
 
+pub mod alias;
 pub mod cie;
 pub mod distribution;
 pub mod frame;

@@ -66,7 +66,7 @@ fn samples_follow_the_density_per_cell_and_within_cells() {
     let mut counts = vec![0u64; bx * by];
     let mut rng = Sampler::new(5, 0, 0);
     for _ in 0..n {
-        let s = env.sample(Vec3::ZERO, rng.next_2d()).unwrap();
+        let s = env.sample(Vec3::ZERO, rng.next_1d(), rng.next_2d()).unwrap();
         let uv = direction_to_uv(s.wi);
         let x = (uv.x * W as f32 - 0.5).rem_euclid(W as f32) * sub as f32;
         let y = uv.y * cy as f32 * sub as f32;
@@ -165,7 +165,7 @@ fn maps_without_light_to_sample_by_are_sampled_uniformly() {
         let env = EnvMap::new(&img, 1.0).unwrap();
         let mut rng = Sampler::new(1, 0, 0);
         for _ in 0..100 {
-            let s = env.sample(Vec3::ZERO, rng.next_2d()).unwrap();
+            let s = env.sample(Vec3::ZERO, rng.next_1d(), rng.next_2d()).unwrap();
             assert!((s.pdf - 0.25 / PI).abs() < 1e-7 && env.pdf(s.wi) == s.pdf);
             assert_eq!(s.li, env.eval(s.wi));
         }
@@ -179,7 +179,7 @@ fn rotated_maps_sample_what_they_report() {
     let plain = EnvMap::new(&spot_map(), 1.0).unwrap();
     let mut rng = Sampler::new(2, 0, 0);
     for _ in 0..1000 {
-        let s = env.sample(Vec3::ZERO, rng.next_2d()).unwrap();
+        let s = env.sample(Vec3::ZERO, rng.next_1d(), rng.next_2d()).unwrap();
         let map_d = r.transpose() * s.wi;
         // As in the unit tests: the round trip through (u, v) moves the density by at most
         // the rounding of u times W times the largest log-slope in a cell (~1000).

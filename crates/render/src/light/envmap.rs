@@ -165,11 +165,12 @@ impl EnvMap {
         warp.cell_scale(i, j) * p_over_sin * (0.5 / (PI * PI))
     }
 
-    /// A direction towards the environment with its solid-angle density and radiance.
-    pub fn sample(&self, p: Vec3, u: Vec2) -> Option<LightSample> {
+    /// A direction towards the environment with its solid-angle density and radiance, from
+    /// uniform numbers `uc` and `u`.
+    pub fn sample(&self, p: Vec3, uc: f32, u: Vec2) -> Option<LightSample> {
         let (wi, li, pdf) = match (&self.warp, self.importance) {
             (Some(warp), true) => {
-                let s = warp.sample(u);
+                let s = warp.sample(uc, u);
                 let mut uu = (s.i as f32 + 0.5 + s.frac.x) / self.width as f32;
                 if uu >= 1.0 {
                     uu -= 1.0;
@@ -319,7 +320,7 @@ mod tests {
         let (n, mut sum, mut sum2) = (200_000, 0.0f64, 0.0f64);
         let (mut worst_pdf, mut worst_li) = (0.0f32, 0.0f32);
         for _ in 0..n {
-            let s = env.sample(Vec3::ZERO, rng.next_2d()).unwrap();
+            let s = env.sample(Vec3::ZERO, rng.next_1d(), rng.next_2d()).unwrap();
             worst_pdf = worst_pdf.max(((env.pdf(s.wi) - s.pdf) / s.pdf).abs());
             worst_li = worst_li.max(((env.eval(s.wi) - s.li) / s.li).max_channel().abs());
             let x = (s.li.luminance() / s.pdf) as f64;

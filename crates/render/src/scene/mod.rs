@@ -431,7 +431,7 @@ impl Scene {
             Light::Directional(l) => l.sample(r)?,
             Light::Area(a) => a.sample(&self.shapes[a.shape].geometry, r, uc2, u)?,
             Light::Constant(c) => c.sample(r, u)?,
-            Light::EnvMap(e) => e.sample(r.p, u)?,
+            Light::EnvMap(e) => e.sample(r.p, uc2, u)?,
         };
         s.pdf *= self.light_select_pdf();
         Some(s)
