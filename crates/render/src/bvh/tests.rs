@@ -200,6 +200,22 @@ fn flat_grids_and_mixed_shapes_match_brute_force() {
 }
 
 #[test]
+fn a_few_analytic_shapes_tested_without_the_bvh_match_brute_force() {
+    // At most eight non-triangle primitives: spheres four at a time (one pack full, one not,
+    // overlapping ones included), a rectangle and a disk one by one.
+    let mut r = Rnd::new(5);
+    let mut b = builder();
+    for i in 0..6 {
+        add(&mut b, Geometry::Sphere(Sphere::new(r.v(3.0), r.f(0.5, 2.5 - 0.2 * i as f32))));
+    }
+    add(&mut b, Geometry::Rectangle(Rectangle::new(&transform(&mut r)).unwrap()));
+    add(&mut b, Geometry::Disk(Disk::new(&transform(&mut r)).unwrap()));
+    let scene = b.build().unwrap();
+    let hits = check(&scene, &mut r, 4000);
+    assert!(hits > 300, "the test must exercise hits: {hits}");
+}
+
+#[test]
 fn empty_and_single_primitive_scenes() {
     let mut r = Rnd::new(3);
     assert_eq!(check(&builder().build().unwrap(), &mut r, 100), 0);

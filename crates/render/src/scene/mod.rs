@@ -1,6 +1,7 @@
 //! A scene: a camera, shapes each with a material (and optionally an emission), lights, and
 //! the BVH over every primitive. Built once with [`SceneBuilder`], then only read.
 
+mod few;
 mod packet;
 
 pub use packet::PacketHits;
@@ -167,9 +168,10 @@ impl SceneBuilder {
         if others.iter().all(|&m| m == HAS_TRIANGLES) {
             others.clear();
         }
-        let linear = prims.len() <= LINEAR_MAX && !prims.iter().any(|p| matches!(p, Prim::Triangle { .. }));
+        let few = (prims.len() <= LINEAR_MAX && !prims.iter().any(|p| matches!(p, Prim::Triangle { .. })))
+            .then(|| few::Few::new(&prims));
         let environment = lights.iter().position(Light::is_environment);
-        Ok(Scene { camera, shapes, lights, light_of_shape, environment, bvh, prims, tri4, others, linear, refs })
+        Ok(Scene { camera, shapes, lights, light_of_shape, environment, bvh, prims, tri4, others, few, refs })
     }
 }
 
@@ -196,7 +198,7 @@ pub struct Scene {
     /// when some lane holds a triangle; empty when all packs hold triangles only.
     others: Vec<u8>,
     /// A few analytic shapes and no triangle: rays test them all, without the BVH.
-    linear: bool,
+    few: Option<few::Few>,
     /// (shape, primitive within the shape) per BVH-ordered primitive.
     refs: Vec<(u32, u32)>,
 }
@@ -241,8 +243,8 @@ impl Scene {
     /// The closest hit as (BVH-ordered primitive, distance), without shading data.
     #[inline]
     pub fn intersect_t(&self, ray: &Ray) -> Option<(usize, f32)> {
-        if self.linear {
-            return self.intersect_t_linear(ray);
+        if let Some(few) = &self.few {
+            return self.intersect_t_few(few, ray);
         }
         let mut best = None; // (pack, lane, t)
         let mut t_max = ray.t_max;
@@ -296,9 +298,8 @@ impl Scene {
     #[inline]
     pub(crate) fn occluded_but(&self, ray: &Ray, skip: Option<u32>) -> bool {
         let counts = |k: usize| skip != Some(self.refs[k].0) || matches!(self.prims[k], Prim::Triangle { .. });
-        if self.linear {
-            return (0..self.prims.len())
-                .any(|k| counts(k) && self.intersect_prim(k, ray.o, ray.d, ray.t_max).is_some());
+        if let Some(few) = &self.few {
+            return self.occluded_few(few, ray, skip);
         }
         self.bvh.walk_any(ray, |packs| {
             let r4 = Ray4::new(ray.o, ray.d);

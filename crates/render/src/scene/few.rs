@@ -1,0 +1,124 @@
+//! Scenes of a few analytic shapes and no triangles, which rays test without a BVH: the
+//! spheres four at a time in SIMD lanes, each lane doing the operations of
+//! [`Sphere::intersect`] in its order (so the same distances bit for bit), the other shapes
+//! one by one.
+
+use super::{Prim, Scene};
+use crate::ray::Ray;
+use crate::shape::Sphere;
+use glam::{BVec4A, Vec4};
+
+/// Four spheres as centre and squared-radius lanes; an unused lane has r² = −1, which no ray
+/// meets.
+#[derive(Clone, Copy, Debug)]
+struct Sphere4 {
+    c: [Vec4; 3],
+    r2: Vec4,
+    /// The BVH-ordered primitive of each lane (`u32::MAX` when unused).
+    prim: [u32; 4],
+}
+
+impl Sphere4 {
+    /// Hit distances in (0, `t_max`) on every lane, and which lanes hit.
+    #[inline(always)]
+    fn hits(&self, ray: &Ray, t_max: f32) -> (Vec4, BVec4A) {
+        let s = Vec4::splat;
+        let (o, d) = ([s(ray.o.x), s(ray.o.y), s(ray.o.z)], [s(ray.d.x), s(ray.d.y), s(ray.d.z)]);
+        let f = [o[0] - self.c[0], o[1] - self.c[1], o[2] - self.c[2]];
+        let b = -(f[0] * d[0] + f[1] * d[1] + f[2] * d[2]);
+        let l = [f[0] + b * d[0], f[1] + b * d[1], f[2] + b * d[2]];
+        let disc = self.r2 - (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+        let c = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]) - self.r2;
+        let q = b + Vec4::from_array(disc.to_array().map(f32::sqrt)).copysign(b);
+        let zero_q = q.cmpeq(Vec4::ZERO);
+        let t0 = Vec4::select(zero_q, Vec4::ZERO, c / q);
+        let t1 = Vec4::select(zero_q, Vec4::ZERO, q);
+        let swap = t0.cmpgt(t1);
+        let (t0, t1) = (Vec4::select(swap, t1, t0), Vec4::select(swap, t0, t1));
+        let tm = s(t_max);
+        let ok0 = t0.cmpgt(Vec4::ZERO) & t0.cmplt(tm);
+        let ok1 = t1.cmpgt(Vec4::ZERO) & t1.cmplt(tm);
+        // disc ≥ 0 is false for NaN, as the scalar test's `disc.is_nan() || disc < 0` rejects.
+        (Vec4::select(ok0, t0, t1), disc.cmpge(Vec4::ZERO) & (ok0 | ok1))
+    }
+}
+
+/// The spheres of a few-shape scene in packs of four, and its other primitives.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Few {
+    spheres: Vec<Sphere4>,
+    others: Vec<u32>,
+}
+
+impl Few {
+    /// Over the BVH-ordered primitives `prims`.
+    pub fn new(prims: &[Prim]) -> Few {
+        let mut few = Few::default();
+        let mut spheres: Vec<(u32, Sphere)> = Vec::new();
+        for (k, p) in prims.iter().enumerate() {
+            match p {
+                Prim::Sphere(s) => spheres.push((k as u32, *s)),
+                _ => few.others.push(k as u32),
+            }
+        }
+        for chunk in spheres.chunks(4) {
+            let mut pack = Sphere4 { c: [Vec4::ZERO; 3], r2: Vec4::splat(-1.0), prim: [u32::MAX; 4] };
+            for (lane, (k, s)) in chunk.iter().enumerate() {
+                for a in 0..3 {
+                    pack.c[a][lane] = s.center[a];
+                }
+                pack.r2[lane] = s.radius * s.radius;
+                pack.prim[lane] = *k;
+            }
+            few.spheres.push(pack);
+        }
+        few
+    }
+}
+
+impl Scene {
+    /// [`intersect_t`](Self::intersect_t) in a few-shape scene.
+    #[inline]
+    pub(super) fn intersect_t_few(&self, few: &Few, ray: &Ray) -> Option<(usize, f32)> {
+        let mut best: Option<(usize, f32)> = None;
+        let mut t_max = ray.t_max;
+        for pack in &few.spheres {
+            let (t, ok) = pack.hits(ray, t_max);
+            let mut mask = ok.bitmask();
+            while mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                if t[lane] < t_max {
+                    t_max = t[lane];
+                    best = Some((pack.prim[lane] as usize, t_max));
+                }
+            }
+        }
+        for &k in &few.others {
+            if let Some(t) = self.intersect_prim(k as usize, ray.o, ray.d, t_max) {
+                t_max = t;
+                best = Some((k as usize, t));
+            }
+        }
+        best
+    }
+
+    /// [`occluded_but`](Self::occluded_but) in a few-shape scene.
+    #[inline]
+    pub(super) fn occluded_few(&self, few: &Few, ray: &Ray, skip: Option<u32>) -> bool {
+        let counts = |k: usize| skip != Some(self.refs[k].0);
+        for pack in &few.spheres {
+            let mut mask = pack.hits(ray, ray.t_max).1.bitmask();
+            while mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                if counts(pack.prim[lane] as usize) {
+                    return true;
+                }
+            }
+        }
+        few.others
+            .iter()
+            .any(|&k| counts(k as usize) && self.intersect_prim(k as usize, ray.o, ray.d, ray.t_max).is_some())
+    }
+}
