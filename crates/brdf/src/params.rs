@@ -394,13 +394,20 @@ impl<'a> Varied<'a> {
     }
 }
 
+/// Equal names, tested first by address: models ask with their `ParamSpec`'s own `&'static str`,
+/// so at every hit of a textured material the comparison is usually one pointer test.
+#[inline]
+fn same_name(a: &str, b: &str) -> bool {
+    std::ptr::eq(a, b) || a == b
+}
+
 impl ParamSource for Varied<'_> {
     fn value(&self, name: &str) -> &Value {
-        self.values.iter().find(|(n, _)| *n == name).map_or_else(|| self.base.value(name), |(_, v)| v)
+        self.values.iter().find(|(n, _)| same_name(n, name)).map_or_else(|| self.base.value(name), |(_, v)| v)
     }
 
     fn was_given(&self, name: &str) -> bool {
-        self.base.was_given(name) || self.values.iter().any(|(n, _)| *n == name)
+        self.values.iter().any(|(n, _)| same_name(n, name)) || self.base.was_given(name)
     }
 }
 

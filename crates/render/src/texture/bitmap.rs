@@ -321,6 +321,10 @@ fn luminance(c: Rgb) -> f32 {
 #[inline]
 fn wrap(i: i64, n: usize, mode: WrapMode) -> usize {
     let n = n as i64;
+    // Inside the image every mode is the identity; only the edges need a division.
+    if (0..n).contains(&i) {
+        return i as usize;
+    }
     (match mode {
         WrapMode::Clamp => i.clamp(0, n - 1),
         WrapMode::Repeat => i.rem_euclid(n),
