@@ -15,6 +15,7 @@
 
 use crate::filter::Filter;
 use crate::ray::Ray;
+use crate::simd::{dispatch, Simd, F16, LANES};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use radiometry::warp::concentric_disk;
 
@@ -155,7 +156,12 @@ impl Camera {
     #[inline]
     fn film_fraction(&self, film: Vec2) -> Vec2 {
         let off = Vec2::new(self.crop_offset.0 as f32, self.crop_offset.1 as f32);
-        (film + off) / Vec2::new(self.film.0 as f32, self.film.1 as f32) + self.principal_point
+        (film + off) / self.film_size() + self.principal_point
+    }
+
+    /// The full film's size in pixels, as floats.
+    fn film_size(&self) -> Vec2 {
+        Vec2::new(self.film.0 as f32, self.film.1 as f32)
     }
 
     /// The ray through image position `film` in pixels (x right, y down; pixel (i, j) covers
@@ -194,6 +200,50 @@ impl Camera {
         }
     }
 
+    /// The rays through the sixteen image positions `film` (see [`ray`](Self::ray), whose
+    /// results they are bit for bit), computed in SIMD lanes on `simd` for a perspective camera,
+    /// one by one otherwise (the lens needs its own samples).
+    pub fn rays(&self, film: &[Vec2; LANES], simd: Simd) -> [Ray; LANES] {
+        match self.projection {
+            Projection::Perspective if simd != Simd::Scalar => {
+                dispatch!(simd, self: Camera, perspective_rays(film: &[Vec2; LANES]) -> [Ray; LANES])
+            }
+            _ => std::array::from_fn(|i| self.ray(film[i], Vec2::splat(0.5))),
+        }
+    }
+
+    /// [`rays`](Self::rays) for the perspective projection: `ray`'s operations, lane by lane.
+    #[inline(always)]
+    fn perspective_rays(&self, film: &[Vec2; LANES]) -> [Ray; LANES] {
+        let lanes = |f: &dyn Fn(usize) -> f32| F16(std::array::from_fn(f));
+        let s = F16::splat;
+        let (off, size) = (Vec2::new(self.crop_offset.0 as f32, self.crop_offset.1 as f32), self.film_size());
+        let fx = (lanes(&|i| film[i].x) + s(off.x)) / s(size.x) + s(self.principal_point.x);
+        let fy = (lanes(&|i| film[i].y) + s(off.y)) / s(size.y) + s(self.principal_point.y);
+        let (nx, ny) = (s(1.0) - s(2.0) * fx, s(1.0) - s(2.0) * fy);
+        let (lx, ly) = (nx * s(self.tan_half.x), ny * s(self.tan_half.y));
+        let m = &self.to_world;
+        let axis = |a: usize| {
+            // glam's transform_vector3: (x_axis·x + y_axis·y) + z_axis·z, z = 1.
+            lx * s(m.x_axis[a]) + ly * s(m.y_axis[a]) + s(m.z_axis[a] * 1.0)
+        };
+        let d = [axis(0), axis(1), axis(2)];
+        let len = F16(std::array::from_fn(|i| {
+            let (x, y, z) = (d[0].0[i], d[1].0[i], d[2].0[i]);
+            (x * x + y * y + z * z).sqrt()
+        }));
+        let d = d.map(|c| c / len);
+        let depth = (self.far_clip - self.near_clip).max(0.0);
+        let near = s(self.near_clip) * len;
+        let o = [0, 1, 2].map(|a| s(m.w_axis[a]) + d[a] * near);
+        let t_max = s(depth) * len;
+        std::array::from_fn(|i| Ray {
+            o: Vec3::new(o[0].0[i], o[1].0[i], o[2].0[i]),
+            d: Vec3::new(d[0].0[i], d[1].0[i], d[2].0[i]),
+            t_max: t_max.0[i],
+        })
+    }
+
     /// The camera position in world space.
     pub fn origin(&self) -> Vec3 {
         (self.to_world * Vec4::W).truncate()
@@ -203,6 +253,22 @@ impl Camera {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn batched_perspective_rays_are_the_single_rays_bit_for_bit() {
+        let m = look_at(Vec3::new(0.3, -1.0, 5.0), Vec3::new(0.1, 0.2, 0.0), Vec3::Y).unwrap();
+        let mut cam = Camera::new(m, 37.0, FovAxis::Y, 40, 30).cropped((3, 4), 20, 10).unwrap();
+        cam.principal_point = Vec2::new(0.05, -0.1);
+        cam.near_clip = 0.7;
+        let film: [Vec2; LANES] = std::array::from_fn(|i| Vec2::new(i as f32 * 2.37 + 0.13, 29.9 - i as f32 * 1.7));
+        for (_, simd) in Simd::ALL.into_iter().filter(|(_, s)| s.available()) {
+            let rays = cam.rays(&film, simd);
+            for (r, &f) in rays.iter().zip(&film) {
+                let want = cam.ray(f, Vec2::splat(0.5));
+                assert_eq!((r.o, r.d, r.t_max.to_bits()), (want.o, want.d, want.t_max.to_bits()), "{simd:?} at {f}");
+            }
+        }
+    }
 
     #[test]
     fn look_at_centre_and_edges() {

@@ -129,8 +129,13 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
         let (mut rays, mut samplers) = ([ray; LANES], std::array::from_fn(|_| crate::sampler::Sampler::new(0, 0, 0)));
         let mut at = [(0usize, Vec2::ZERO); LANES];
         let mut n = 0;
-        let mut run = |n: usize, rays: &[crate::ray::Ray; LANES], samplers: &mut _, at: &[(usize, Vec2); LANES]| {
+        // Without a lens, the camera computes the rays of a batch together.
+        let lens = scene.camera.needs_aperture_sample();
+        let mut run = |n: usize, rays: &mut [crate::ray::Ray; LANES], samplers: &mut _, at: &[(usize, Vec2); LANES]| {
             let active = if n == LANES { u32::MAX >> (32 - LANES) } else { (1 << n) - 1 };
+            if !lens {
+                *rays = scene.camera.rays(&at.map(|(_, pos)| pos), opts.simd);
+            }
             let l = opts.integrator.li_packet(scene, rays, samplers, active, opts.simd);
             for (&(x, pos), l) in at.iter().zip(l).take(n) {
                 out(x, pos, l);
@@ -141,18 +146,20 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
             for s in s0..s1 {
                 let mut sampler = key.sampler(s as u64);
                 let pos = Vec2::new(x as f32, y as f32) + sampler.next_2d();
-                rays[n] = camera_ray(scene, pos, &mut sampler);
+                if lens {
+                    rays[n] = camera_ray(scene, pos, &mut sampler);
+                }
                 samplers[n] = sampler;
                 at[n] = (x, pos);
                 n += 1;
                 if n == LANES {
-                    run(n, &rays, &mut samplers, &at);
+                    run(n, &mut rays, &mut samplers, &at);
                     n = 0;
                 }
             }
         }
         if n > 0 {
-            run(n, &rays, &mut samplers, &at);
+            run(n, &mut rays, &mut samplers, &at);
         }
     }
 
