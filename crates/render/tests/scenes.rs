@@ -446,7 +446,9 @@ fn every_instruction_set_renders_the_scalar_image_bit_for_bit() {
     };
     let choices: Vec<Simd> = Simd::ALL.iter().map(|&(_, s)| s).filter(|s| s.available()).collect();
     assert!(choices.contains(&Simd::Sse2), "the forced-SSE2 path always runs");
-    for (gaussian, integrator) in [(false, Integrator::path(8, 3)), (true, Integrator::path(8, 3)), (false, direct)] {
+    let hidden = Integrator::Path { max_depth: 8, rr_depth: 3, hide_emitters: true };
+    let cases = [(false, Integrator::path(8, 3)), (true, Integrator::path(8, 3)), (false, direct), (false, hidden)];
+    for (gaussian, integrator) in cases {
         let scene = room_scene(gaussian);
         let scalar = render(&scene, &RenderOptions { simd: Simd::Scalar, ..opts(6, 3, integrator) }, |_| {});
         assert!(scalar.mean()[1] > 0.05, "the room is lit: {:?}", scalar.mean());
