@@ -15,7 +15,8 @@ pub type PacketHits = [Option<(usize, f32)>; LANES];
 
 impl Scene {
     /// The closest hits of the rays `active` selects, as [`intersect_t`](Self::intersect_t)
-    /// finds them, on the instruction set `simd`.
+    /// finds them: as a packet on the instruction set `simd` when the rays are coherent (they
+    /// point into at most two octants), else one at a time.
     pub fn intersect_t_packet(&self, rays: &[Ray; LANES], active: u32, simd: Simd) -> PacketHits {
         if !coherent(rays, active) {
             return self.intersect_t_packet_as(rays, active, Simd::Scalar);
@@ -33,7 +34,7 @@ impl Scene {
     }
 
     /// The lanes of `active` whose rays are blocked, as [`occluded_but`](Self::occluded_but)
-    /// with `skip[i]` for lane i says.
+    /// with `skip[i]` for lane i says; a packet when the rays are coherent, as above.
     pub fn occluded_packet(&self, rays: &[Ray; LANES], skip: &[Option<u32>; LANES], active: u32, simd: Simd) -> u32 {
         if !coherent(rays, active) {
             return self.occluded_packet_as(rays, skip, active, Simd::Scalar);
