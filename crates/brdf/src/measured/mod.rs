@@ -172,17 +172,28 @@ fn params() -> Vec<ParamSpec> {
     ]
 }
 
-fn build(p: &dyn ParamSource) -> Result<Box<dyn Brdf>, ParamError> {
+/// Opens, with `open`, the file that file-backed model `model` names in its `filename`
+/// parameter; `example` says what to give when it is missing, `kind` names the file in a load
+/// error.
+pub(crate) fn open_filename<T, E: std::fmt::Display>(
+    p: &dyn ParamSource,
+    model: &str,
+    example: &str,
+    kind: &str,
+    open: impl FnOnce(&Path) -> Result<T, E>,
+) -> Result<T, ParamError> {
     let file = p.path("filename");
     if file.is_empty() {
-        return Err(ParamError::Inconsistent(
-            "model 'merl' needs a file: give --filename FILE.binary (a MERL BRDF file)".into(),
-        ));
+        return Err(ParamError::Inconsistent(format!("model '{model}' needs a file: give --filename {example}")));
     }
+    open(Path::new(file))
+        .map_err(|e| ParamError::Inconsistent(format!("parameter 'filename': cannot load the {kind} file {e}")))
+}
+
+fn build(p: &dyn ParamSource) -> Result<Box<dyn Brdf>, ParamError> {
     let interpolation =
         if p.choice("interpolation") == "nearest" { Interpolation::Nearest } else { Interpolation::Linear };
-    let m = Merl::open(Path::new(file), interpolation)
-        .map_err(|e| ParamError::Inconsistent(format!("parameter 'filename': cannot load the MERL file {e}")))?;
+    let m = open_filename(p, "merl", "FILE.binary (a MERL BRDF file)", "MERL", |f| Merl::open(f, interpolation))?;
     Ok(Box::new(m))
 }
 

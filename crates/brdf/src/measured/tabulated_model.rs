@@ -7,12 +7,11 @@
 //! Claims nothing: a measured table need not be reciprocal, isotropic or energy conserving
 //! (`check` measures all three).
 
-use super::{TableSampler, Tabulated};
+use super::{open_filename, TableSampler, Tabulated};
 use crate::model::{same_upper_hemisphere, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSource, ParamSpec};
 use crate::registry::ModelSpec;
 use radiometry::{Rgb, Vec2, Vec3};
-use std::path::Path;
 use std::sync::Arc;
 
 /// A measured BRDF read from a tabulated text file.
@@ -63,14 +62,7 @@ fn params() -> Vec<ParamSpec> {
 }
 
 fn build(p: &dyn ParamSource) -> Result<Box<dyn Brdf>, ParamError> {
-    let file = p.path("filename");
-    if file.is_empty() {
-        return Err(ParamError::Inconsistent(
-            "model 'tabulated' needs a file: give --filename FILE.csv (a tabulated BRDF file)".into(),
-        ));
-    }
-    let table = Tabulated::read(Path::new(file))
-        .map_err(|e| ParamError::Inconsistent(format!("parameter 'filename': cannot load the tabulated file {e}")))?;
+    let table = open_filename(p, "tabulated", "FILE.csv (a tabulated BRDF file)", "tabulated", Tabulated::read)?;
     Ok(Box::new(TabulatedBrdf::new(table)))
 }
 
