@@ -6,7 +6,7 @@
 //! light) share their nodes, so one box test serves many rays. Each lane's slab test does the
 //! operations of the single-ray [`RayBox`](super::wide::RayBox), so no ray loses a box it meets.
 
-use super::wide::{leaf_packs, Node4, LEAF, MIN_DIRECTION};
+use super::wide::{inverse_direction, leaf_packs, Node4, LEAF};
 use super::{Bvh, STACK};
 use crate::ray::Ray;
 use crate::simd::{F16, LANES, M16};
@@ -41,13 +41,12 @@ impl RayPacket {
         };
         for i in 0..LANES {
             let r = ray(i);
+            let (inv, far) = inverse_direction(r.d);
             for a in 0..3 {
                 p.o[a].0[i] = r.o[a];
                 p.d[a].0[i] = r.d[a];
-                let d = r.d[a];
-                let inv = 1.0 / d.abs().max(MIN_DIRECTION).copysign(d);
-                p.inv[a].0[i] = inv;
-                p.inv_far[a].0[i] = inv * super::wide::FAR_SCALE;
+                p.inv[a].0[i] = inv[a];
+                p.inv_far[a].0[i] = far[a];
             }
             p.t_max.0[i] = r.t_max;
         }

@@ -51,10 +51,19 @@ impl Node4 {
 /// Direction components smaller than this are replaced by it (keeping the sign), so that
 /// 1/d stays finite and the slab test never computes 0·∞. The ray then drifts by at most
 /// 1e-20 per unit length, far below any box's rounding.
-pub(super) const MIN_DIRECTION: f32 = 1e-20;
+const MIN_DIRECTION: f32 = 1e-20;
 /// pbrt's γ₃ = 3ε/(1 − 3ε) with ε = 2⁻²⁴, the bound on the relative error of the slab
 /// distances; far distances are scaled by 1 + 2γ₃.
-pub(super) const FAR_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+const FAR_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+
+/// The slab test's inverse direction, each component at least [`MIN_DIRECTION`] in size, and
+/// the same scaled for far distances; single rays and packets share it.
+#[inline(always)]
+pub(super) fn inverse_direction(d: glam::Vec3) -> (Vec3A, Vec3A) {
+    let d = Vec3A::from(d);
+    let inv = d.abs().max(Vec3A::splat(MIN_DIRECTION)).copysign(d).recip();
+    (inv, inv * FAR_SCALE)
+}
 
 /// A ray prepared for box tests: origin and inverse direction splatted over the lanes, and
 /// which corner (0 lower, 1 upper) is the near one on each axis.
@@ -70,9 +79,7 @@ pub(super) struct RayBox {
 impl RayBox {
     #[inline]
     pub fn new(ray: &Ray) -> Self {
-        let d = Vec3A::from(ray.d);
-        let inv = d.abs().max(Vec3A::splat(MIN_DIRECTION)).copysign(d).recip();
-        let far = inv * FAR_SCALE;
+        let (inv, far) = inverse_direction(ray.d);
         let s = Vec4::splat;
         RayBox {
             o: [s(ray.o.x), s(ray.o.y), s(ray.o.z)],
