@@ -58,18 +58,11 @@ impl Scene {
         dispatch!(simd, self: Scene, any_packet(rays: &[Ray; LANES], skip: &[Option<u32>; LANES], active: u32) -> u32)
     }
 
-    /// Lane `i` of the packet as a ray with the far end `t_max`.
-    #[inline(always)]
-    fn lane(p: &RayPacket, i: usize, t_max: f32) -> Ray {
-        let c = |w: &[F16; 3]| glam::Vec3::new(w[0].0[i], w[1].0[i], w[2].0[i]);
-        Ray { o: c(&p.o), d: c(&p.d), t_max }
-    }
-
     #[inline(always)]
     fn closest_packet(&self, rays: &[Ray; LANES], active: u32) -> PacketHits {
         let p = RayPacket::new(rays, active);
         let mut t_max = p.t_max;
-        let mut leaf = Closest { scene: self, p: &p, best: [u32::MAX; LANES] };
+        let mut leaf = Closest { scene: self, p: &p, rays, best: [u32::MAX; LANES] };
         self.bvh.walk_packet::<false>(&p, &mut t_max, M16::from_bits(active), &mut leaf);
         std::array::from_fn(|i| (leaf.best[i] != u32::MAX).then(|| (leaf.best[i] as usize, t_max.0[i])))
     }
@@ -79,7 +72,7 @@ impl Scene {
         let p = RayPacket::new(rays, active);
         let mut t_max = p.t_max;
         self.bvh
-            .walk_packet::<true>(&p, &mut t_max, M16::from_bits(active), &mut Any { scene: self, p: &p, skip })
+            .walk_packet::<true>(&p, &mut t_max, M16::from_bits(active), &mut Any { scene: self, p: &p, rays, skip })
             .bits()
     }
 }
@@ -103,6 +96,7 @@ fn coherent(rays: &[Ray; LANES], active: u32) -> bool {
 struct Closest<'a> {
     scene: &'a Scene,
     p: &'a RayPacket,
+    rays: &'a [Ray; LANES],
     best: [u32; LANES],
 }
 
@@ -120,8 +114,8 @@ impl PacketLeaf for Closest<'_> {
                     self.best = hit.select_u32([k as u32; LANES], self.best);
                 } else {
                     for_bits(lanes.bits(), |i| {
-                        let r = Scene::lane(self.p, i, t_max.0[i]);
-                        if let Some(t) = s.intersect_prim(k, r.o, r.d, r.t_max) {
+                        let r = &self.rays[i];
+                        if let Some(t) = s.intersect_prim(k, r.o, r.d, t_max.0[i]) {
                             t_max.0[i] = t;
                             self.best[i] = k as u32;
                         }
@@ -137,6 +131,7 @@ impl PacketLeaf for Closest<'_> {
 struct Any<'a> {
     scene: &'a Scene,
     p: &'a RayPacket,
+    rays: &'a [Ray; LANES],
     skip: &'a [Option<u32>; LANES],
 }
 
@@ -155,8 +150,8 @@ impl PacketLeaf for Any<'_> {
                     let mut b = blocked.bits();
                     for_bits(lanes.and_not(blocked).bits(), |i| {
                         if self.skip[i] != Some(shape) {
-                            let r = Scene::lane(self.p, i, t_max.0[i]);
-                            b |= (s.intersect_prim(k, r.o, r.d, r.t_max).is_some() as u32) << i;
+                            let r = &self.rays[i];
+                            b |= (s.intersect_prim(k, r.o, r.d, t_max.0[i]).is_some() as u32) << i;
                         }
                     });
                     blocked = M16::from_bits(b);
