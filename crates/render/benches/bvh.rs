@@ -25,6 +25,7 @@ use render::bvh::Bvh;
 use render::camera::{look_at, Camera, FovAxis};
 use render::ray::{spawn_ray, spawn_ray_to, Ray};
 use render::sampler::Sampler;
+use render::scene::lanes_of;
 use render::shape::mesh::intersect_triangle;
 use render::shape::{Aabb, Geometry, TriangleMesh};
 use render::{Scene, SceneBuilder, Shape};
@@ -301,15 +302,7 @@ fn cost_split(torus: &Scene) {
             samplers.push(s);
         }
     });
-    let packets = |rays: &[Ray]| -> Vec<([Ray; LANES], u32)> {
-        rays.chunks(LANES)
-            .map(|ch| {
-                let mut p = [ch[0]; LANES];
-                p[..ch.len()].copy_from_slice(ch);
-                (p, (1u32 << ch.len()) - 1)
-            })
-            .collect()
-    };
+    let packets = |rays: &[Ray]| -> Vec<([Ray; LANES], u32)> { rays.chunks(LANES).map(lanes_of).collect() };
     let camera_packets = packets(&rays);
     let mut hits = Vec::new();
     time("camera rays (packets)", &mut || {
@@ -409,11 +402,6 @@ fn packet_table(pools: &[rayon::ThreadPool], scene: &Scene, random: &[Ray]) {
     use render::simd::{Simd, LANES};
     let camera = camera_rays_by_pixel(&scene.camera);
     let (_, _, shadow) = scene_rays(scene);
-    let lanes = |ch: &[Ray]| {
-        let mut p = [ch[0]; LANES];
-        p[..ch.len()].copy_from_slice(ch);
-        (p, (1u32 << ch.len()) - 1)
-    };
     let none = [None; LANES];
     println!("packets, Mrays/s (best of {REPS}; {LANES} rays per query):");
     println!(
@@ -422,11 +410,11 @@ fn packet_table(pools: &[rayon::ThreadPool], scene: &Scene, random: &[Ray]) {
     );
     for simd in Simd::ALL.map(|(_, s)| s).into_iter().filter(|s| s.available()) {
         let closest = |ch: &[Ray]| {
-            let (p, active) = lanes(ch);
+            let (p, active) = lanes_of(ch);
             scene.intersect_t_packet(black_box(&p), active, simd).iter().filter(|h| h.is_some()).count()
         };
         let any = |ch: &[Ray]| {
-            let (p, active) = lanes(ch);
+            let (p, active) = lanes_of(ch);
             scene.occluded_packet(black_box(&p), &none, active, simd).count_ones() as usize
         };
         let mut row = String::new();
@@ -444,31 +432,18 @@ fn packet_table(pools: &[rayon::ThreadPool], scene: &Scene, random: &[Ray]) {
 /// Best-of-[`REPS`] Mrays/s of `query`, called on sixteen rays at a time, over `rays` on `pool`.
 fn packet_rate(pool: &rayon::ThreadPool, rays: &[Ray], query: &(dyn Fn(&[Ray]) -> usize + Sync)) -> f64 {
     use render::simd::LANES;
-    let best = (0..REPS)
-        .map(|_| {
-            timed(|| {
-                pool.install(|| {
-                    rays.par_chunks(CHUNK).map(|ch| ch.chunks(LANES).map(query).sum::<usize>()).sum::<usize>()
-                })
-            })
-            .1
-        })
-        .min()
-        .unwrap_or(Duration::MAX);
-    rays.len() as f64 / best.as_secs_f64().max(1e-9) * 1e-6
+    chunk_rate(pool, rays, &|ch| ch.chunks(LANES).map(query).sum())
 }
 
-/// Best-of-[`REPS`] Mrays/s of `query` over `rays` on `pool`.
+/// Best-of-[`REPS`] Mrays/s of `query`, called ray by ray, over `rays` on `pool`.
 fn rate(pool: &rayon::ThreadPool, rays: &[Ray], query: &(dyn Fn(&Ray) -> bool + Sync)) -> f64 {
+    chunk_rate(pool, rays, &|ch| ch.iter().filter(|r| query(black_box(r))).count())
+}
+
+/// Best-of-[`REPS`] Mrays/s of `per_chunk`, which traces one rayon task's [`CHUNK`] rays.
+fn chunk_rate(pool: &rayon::ThreadPool, rays: &[Ray], per_chunk: &(dyn Fn(&[Ray]) -> usize + Sync)) -> f64 {
     let best = (0..REPS)
-        .map(|_| {
-            timed(|| {
-                pool.install(|| {
-                    rays.par_chunks(CHUNK).map(|ch| ch.iter().filter(|r| query(black_box(r))).count()).sum::<usize>()
-                })
-            })
-            .1
-        })
+        .map(|_| timed(|| pool.install(|| rays.par_chunks(CHUNK).map(per_chunk).sum::<usize>())).1)
         .min()
         .unwrap_or(Duration::MAX);
     rays.len() as f64 / best.as_secs_f64().max(1e-9) * 1e-6

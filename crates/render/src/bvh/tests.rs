@@ -4,7 +4,7 @@
 use crate::camera::{look_at, Camera, FovAxis};
 use crate::ray::{spawn_ray, Ray};
 use crate::sampler::Sampler;
-use crate::scene::PacketHits;
+use crate::scene::{lanes_of, PacketHits};
 use crate::shape::{Disk, Geometry, Rectangle, Sphere, TriangleMesh};
 use crate::simd::{Simd, LANES};
 use crate::{Scene, SceneBuilder, Shape};
@@ -86,9 +86,7 @@ fn agree(scene: &Scene, ray: &Ray) -> bool {
 fn packets_agree(scene: &Scene, rays: &[Ray]) {
     let shapes = scene.shapes().len() as u32;
     for (c, chunk) in rays.chunks(LANES).enumerate() {
-        let mut lanes = [rays[0]; LANES];
-        lanes[..chunk.len()].copy_from_slice(chunk);
-        let full = (1u32 << chunk.len()) - 1;
+        let (lanes, full) = lanes_of(chunk);
         let active = if c % 3 == 0 { full & 0xb5a7 } else { full };
         let skip: [Option<u32>; LANES] = std::array::from_fn(|i| (i % 3 == 0).then(|| (c + i) as u32 % shapes.max(1)));
         for simd in Simd::ALL.map(|(_, s)| s).into_iter().filter(|s| s.available()) {

@@ -4,7 +4,7 @@
 mod few;
 mod packet;
 
-pub use packet::PacketHits;
+pub use packet::{lanes_of, PacketHits};
 
 use crate::bvh::{Bvh, Ray4, Tri4, Visit};
 use crate::camera::Camera;

@@ -13,6 +13,17 @@ use std::ops::Range;
 /// The closest hit of each lane, as (BVH-ordered primitive, distance).
 pub type PacketHits = [Option<(usize, f32)>; LANES];
 
+/// One to sixteen rays as a packet query's lanes and active mask (unused lanes copy the first).
+///
+/// # Panics
+/// With no ray, or more than sixteen.
+pub fn lanes_of(rays: &[Ray]) -> ([Ray; LANES], u32) {
+    assert!((1..=LANES).contains(&rays.len()), "{} rays for a packet of {LANES}", rays.len());
+    let mut lanes = [rays[0]; LANES];
+    lanes[..rays.len()].copy_from_slice(rays);
+    (lanes, (1u32 << rays.len()) - 1)
+}
+
 impl Scene {
     /// The closest hits of the rays `active` selects, as [`intersect_t`](Self::intersect_t)
     /// finds them: as a packet on the instruction set `simd` when the rays are coherent (they
