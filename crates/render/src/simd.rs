@@ -317,15 +317,16 @@ lane_op!(Sub, sub, -);
 lane_op!(Mul, mul, *);
 lane_op!(Div, div, /);
 
-/// Lane-wise cross product, the operand order of glam's `Vec3::cross`.
+/// Lane-wise cross product of vectors held as x, y, z lanes (`F16`, glam's `Vec4`), in the
+/// operand order of glam's `Vec3::cross`, so that each lane rounds as the scalar one does.
 #[inline(always)]
-pub fn cross(a: &[F16; 3], b: &[F16; 3]) -> [F16; 3] {
+pub fn cross<T: Copy + Mul<Output = T> + Sub<Output = T>>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
     [a[1] * b[2] - b[1] * a[2], a[2] * b[0] - b[2] * a[0], a[0] * b[1] - b[0] * a[1]]
 }
 
-/// Lane-wise dot product, the summation order of glam's `Vec3::dot`.
+/// Lane-wise dot product, in the summation order of glam's `Vec3::dot`.
 #[inline(always)]
-pub fn dot(a: &[F16; 3], b: &[F16; 3]) -> F16 {
+pub fn dot<T: Copy + Mul<Output = T> + Add<Output = T>>(a: &[T; 3], b: &[T; 3]) -> T {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 

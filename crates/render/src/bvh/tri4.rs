@@ -6,7 +6,7 @@
 //! [`intersect_triangle`]: crate::shape::mesh::intersect_triangle
 
 use super::RayPacket;
-use crate::simd::{self, F16, M16};
+use crate::simd::{cross, dot, F16, M16};
 use glam::{BVec4A, Vec3, Vec4};
 
 /// Four triangles as a corner and two edges, x/y/z lanes; unused lanes hold a degenerate
@@ -33,18 +33,6 @@ impl Ray4 {
         let s = Vec4::splat;
         Ray4 { o: [s(o.x), s(o.y), s(o.z)], d: [s(d.x), s(d.y), s(d.z)] }
     }
-}
-
-/// Lane-wise cross product, the operand order of glam's `Vec3::cross`.
-#[inline(always)]
-fn cross(a: &[Vec4; 3], b: &[Vec4; 3]) -> [Vec4; 3] {
-    [a[1] * b[2] - b[1] * a[2], a[2] * b[0] - b[2] * a[0], a[0] * b[1] - b[0] * a[1]]
-}
-
-/// Lane-wise dot product, the summation order of glam's `Vec3::dot`.
-#[inline(always)]
-fn dot(a: &[Vec4; 3], b: &[Vec4; 3]) -> Vec4 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 impl Tri4 {
@@ -117,14 +105,14 @@ impl Tri4 {
     pub fn hits_packet(&self, lane: usize, p: &RayPacket, t_max: &F16) -> (F16, M16) {
         let s = |w: &[Vec4; 3]| [F16::splat(w[0][lane]), F16::splat(w[1][lane]), F16::splat(w[2][lane])];
         let (p0, e1, e2) = (s(&self.p0), s(&self.e1), s(&self.e2));
-        let pvec = simd::cross(&p.d, &e2);
-        let det = simd::dot(&e1, &pvec);
+        let pvec = cross(&p.d, &e2);
+        let det = dot(&e1, &pvec);
         let inv = F16::splat(1.0) / det;
         let tvec = [p.o[0] - p0[0], p.o[1] - p0[1], p.o[2] - p0[2]];
-        let u = simd::dot(&tvec, &pvec) * inv;
-        let qvec = simd::cross(&tvec, &e1);
-        let v = simd::dot(&p.d, &qvec) * inv;
-        let t = simd::dot(&e2, &qvec) * inv;
+        let u = dot(&tvec, &pvec) * inv;
+        let qvec = cross(&tvec, &e1);
+        let v = dot(&p.d, &qvec) * inv;
+        let t = dot(&e2, &qvec) * inv;
         let (zero, one) = (F16::splat(0.0), F16::splat(1.0));
         let ok = det.ne(zero).and(u.ge(zero)).and(u.le(one)).and(v.ge(zero)).and((u + v).le(one));
         let ok = ok.and(t.gt(zero)).and(t.lt(*t_max));

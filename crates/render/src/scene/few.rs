@@ -6,6 +6,7 @@
 use super::{Prim, Scene};
 use crate::ray::Ray;
 use crate::shape::Sphere;
+use crate::simd::dot;
 use glam::{BVec4A, Vec4};
 
 /// Four spheres as centre and squared-radius lanes; an unused lane has r² = −1, which no ray
@@ -25,10 +26,10 @@ impl Sphere4 {
         let s = Vec4::splat;
         let (o, d) = ([s(ray.o.x), s(ray.o.y), s(ray.o.z)], [s(ray.d.x), s(ray.d.y), s(ray.d.z)]);
         let f = [o[0] - self.c[0], o[1] - self.c[1], o[2] - self.c[2]];
-        let b = -(f[0] * d[0] + f[1] * d[1] + f[2] * d[2]);
+        let b = -dot(&f, &d);
         let l = [f[0] + b * d[0], f[1] + b * d[1], f[2] + b * d[2]];
-        let disc = self.r2 - (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
-        let c = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]) - self.r2;
+        let disc = self.r2 - dot(&l, &l);
+        let c = dot(&f, &f) - self.r2;
         let q = b + Vec4::from_array(disc.to_array().map(f32::sqrt)).copysign(b);
         let zero_q = q.cmpeq(Vec4::ZERO);
         let t0 = Vec4::select(zero_q, Vec4::ZERO, c / q);
