@@ -258,6 +258,7 @@ mod tests {
             }
         }
         let dof = (dof - 1) as f64;
+        eprintln!("bilinear warp: χ² {chi2:.1} with {dof} degrees of freedom");
         assert!(chi2 < dof + 4.0 * (2.0 * dof).sqrt(), "χ² {chi2} with {dof} degrees of freedom");
     }
 }

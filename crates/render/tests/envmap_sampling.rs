@@ -86,6 +86,7 @@ fn samples_follow_the_density_per_cell_and_within_cells() {
     // The spot's cells hold most samples, and within them the bilinear ramp is steep: a
     // density that is flat within cells would fail the sub-cell test by far.
     let (c2, dof) = chi2(&counts, &expected);
+    eprintln!("environment sampling: sub-cell χ² {c2:.1} with {dof} degrees of freedom");
     assert!(c2 < dof + 4.0 * (2.0 * dof).sqrt(), "sub-cell χ² {c2} with {dof} degrees of freedom");
     let cell = |v: &[f64]| -> Vec<f64> {
         (0..cx * cy)
@@ -98,6 +99,7 @@ fn samples_follow_the_density_per_cell_and_within_cells() {
     let cell_counts: Vec<u64> =
         cell(&counts.iter().map(|&c| c as f64).collect::<Vec<_>>()).iter().map(|&c| c as u64).collect();
     let (c2, dof) = chi2(&cell_counts, &cell(&expected));
+    eprintln!("environment sampling: cell χ² {c2:.1} with {dof} degrees of freedom");
     assert!(c2 < dof + 4.0 * (2.0 * dof).sqrt(), "cell χ² {c2} with {dof} degrees of freedom");
 }
 
