@@ -7,7 +7,7 @@ use crate::image::Image;
 use crate::integrator::Integrator;
 use crate::sampler::PixelKey;
 use crate::scene::Scene;
-use crate::simd::{Simd, LANES};
+use crate::simd::LANES;
 use glam::Vec2;
 use radiometry::Rgb;
 use rayon::prelude::*;
@@ -27,20 +27,11 @@ pub struct RenderOptions {
     pub integrator: Integrator,
     /// Set to true (from anywhere) to stop early; the image then holds the samples taken.
     pub cancel: Option<Arc<AtomicBool>>,
-    /// The instruction set of ray queries (the image does not depend on it).
-    pub simd: Simd,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions {
-            spp: 16,
-            seed: 0,
-            threads: 0,
-            integrator: Integrator::default(),
-            cancel: None,
-            simd: Simd::detect(),
-        }
+        RenderOptions { spp: 16, seed: 0, threads: 0, integrator: Integrator::default(), cancel: None }
     }
 }
 
@@ -134,9 +125,9 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
         let mut run = |n: usize, rays: &mut [crate::ray::Ray; LANES], samplers: &mut _, at: &[(usize, Vec2); LANES]| {
             let active = if n == LANES { u32::MAX >> (32 - LANES) } else { (1 << n) - 1 };
             if !lens {
-                *rays = scene.camera.rays(&at.map(|(_, pos)| pos), opts.simd);
+                *rays = scene.camera.rays(&at.map(|(_, pos)| pos), scene.simd());
             }
-            let l = opts.integrator.li_packet(scene, rays, samplers, active, opts.simd);
+            let l = opts.integrator.li_packet(scene, rays, samplers, active, scene.simd());
             for (&(x, pos), l) in at.iter().zip(l).take(n) {
                 out(x, pos, l);
             }

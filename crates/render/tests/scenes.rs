@@ -21,7 +21,7 @@ fn camera(origin: Vec3, target: Vec3, fov: f32, w: u32, h: u32) -> Camera {
 }
 
 fn opts(spp: u32, seed: u64, integrator: Integrator) -> RenderOptions {
-    RenderOptions { spp, seed, threads: 2, integrator, cancel: None, ..Default::default() }
+    RenderOptions { spp, seed, threads: 2, integrator, cancel: None }
 }
 
 /// Mean of the green channel over the pixels, and the standard error of that mean from the
@@ -449,11 +449,13 @@ fn every_instruction_set_renders_the_scalar_image_bit_for_bit() {
     let hidden = Integrator::Path { max_depth: 8, rr_depth: 3, hide_emitters: true };
     let cases = [(false, Integrator::path(8, 3)), (true, Integrator::path(8, 3)), (false, direct), (false, hidden)];
     for (gaussian, integrator) in cases {
-        let scene = room_scene(gaussian);
-        let scalar = render(&scene, &RenderOptions { simd: Simd::Scalar, ..opts(6, 3, integrator) }, |_| {});
+        let mut scene = room_scene(gaussian);
+        scene.set_simd(Simd::Scalar);
+        let scalar = render(&scene, &opts(6, 3, integrator), |_| {});
         assert!(scalar.mean()[1] > 0.05, "the room is lit: {:?}", scalar.mean());
         for &simd in &choices {
-            let img = render(&scene, &RenderOptions { simd, ..opts(6, 3, integrator) }, |_| {});
+            scene.set_simd(simd);
+            let img = render(&scene, &opts(6, 3, integrator), |_| {});
             let same =
                 scalar.pixels.iter().zip(&img.pixels).all(|(a, b)| a.0.map(f32::to_bits) == b.0.map(f32::to_bits));
             assert!(same, "{simd:?} with {integrator:?} (Gaussian filter: {gaussian})");

@@ -15,7 +15,7 @@ use std::sync::Arc;
 const N: u32 = 16;
 
 fn opts(spp: u32, seed: u64, threads: usize) -> RenderOptions {
-    RenderOptions { spp, seed, threads, integrator: Integrator::DIRECT, cancel: None, ..Default::default() }
+    RenderOptions { spp, seed, threads, integrator: Integrator::DIRECT, cancel: None }
 }
 
 /// A diffuse sphere whose silhouette crosses the image, under a sky with a bright spot: sharp

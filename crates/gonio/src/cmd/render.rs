@@ -119,7 +119,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     if !a.exposure.is_finite() {
         bail!("--exposure must be a finite number of stops");
     }
-    let (scene, integrator, inputs, spp, seed) = match &a.scene {
+    let (mut scene, integrator, inputs, spp, seed) = match &a.scene {
         None => {
             if a.width == 0 || a.height == 0 || a.width > 16384 || a.height > 16384 {
                 bail!("--width and --height must be in 1..=16384");
@@ -150,8 +150,8 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     if spp == 0 {
         bail!("--spp must be at least 1");
     }
-    let opts =
-        RenderOptions { spp, seed: a.seed.unwrap_or(seed), threads: a.threads, integrator, cancel: None, simd: a.simd };
+    let opts = RenderOptions { spp, seed: a.seed.unwrap_or(seed), threads: a.threads, integrator, cancel: None };
+    scene.set_simd(a.simd);
     let start = std::time::Instant::now();
     let (img, cancelled) = render_with_progress(&scene, &opts, "rendering");
     save_image(&img, &a.output, a.exposure, &inputs)?;

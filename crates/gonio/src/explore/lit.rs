@@ -183,7 +183,6 @@ pub fn stream(job: Job, out: &mut dyn Write, running: &AtomicUsize, cancel: Arc<
             threads: 0,
             integrator: Integrator::default(),
             cancel: Some(cancel.clone()),
-            ..Default::default()
         };
         let img = render::render(&job.scene, &opts, |_| {});
         if cancel.load(Ordering::SeqCst) {

@@ -62,6 +62,22 @@ pub enum Visit {
     Stop,
 }
 
+/// The test at a leaf of a single-ray walk ([`Bvh::walk`]): tests the packs, lowers `t_max` to
+/// the closest hit, and says whether the walk goes on. A trait method rather than a closure,
+/// because a closure's body is compiled apart from a walk copied for a wider instruction set and
+/// stays in baseline code; a method marked `#[inline(always)]` is compiled into the copy.
+pub trait Leaf {
+    /// Tests the packs `packs` against the ray within (0, `t_max`).
+    fn leaf(&mut self, packs: Range<usize>, t_max: &mut f32) -> Visit;
+}
+
+impl<F: FnMut(Range<usize>, &mut f32) -> Visit> Leaf for F {
+    #[inline(always)]
+    fn leaf(&mut self, packs: Range<usize>, t_max: &mut f32) -> Visit {
+        self(packs, t_max)
+    }
+}
+
 impl Bvh {
     /// Builds over the primitives' boxes.
     ///
@@ -142,9 +158,8 @@ impl Bvh {
     /// Visits the leaves whose boxes the ray enters before `t_max`, nearer boxes first:
     /// `leaf(packs, t_max)` tests the packs and lowers `t_max` to the closest hit.
     #[inline]
-    pub fn walk_closest(&self, ray: &Ray, t_max: &mut f32, leaf: impl FnMut(Range<usize>, &mut f32)) {
-        let mut leaf = leaf;
-        self.walk::<false>(ray, t_max, |packs, t| {
+    pub fn walk_closest(&self, ray: &Ray, t_max: &mut f32, mut leaf: impl FnMut(Range<usize>, &mut f32)) {
+        self.walk::<false>(ray, t_max, &mut |packs: Range<usize>, t: &mut f32| {
             leaf(packs, t);
             Visit::Continue
         });
@@ -155,18 +170,15 @@ impl Bvh {
     #[inline]
     pub fn walk_any(&self, ray: &Ray, mut leaf: impl FnMut(Range<usize>) -> Visit) -> bool {
         let mut t_max = ray.t_max;
-        self.walk::<true>(ray, &mut t_max, |packs, _| leaf(packs))
+        self.walk::<true>(ray, &mut t_max, &mut |packs: Range<usize>, _: &mut f32| leaf(packs))
     }
 
-    /// The traversal. `ANY`: children in node order, no distance checks on popping;
-    /// otherwise nearest child first, and popped boxes entered at or beyond `t_max` skipped.
+    /// The traversal, calling `leaf` at the leaves reached. `ANY`: children in node order, no
+    /// distance checks on popping, and the walk ends (returning true) when `leaf` says
+    /// [`Visit::Stop`]; otherwise nearest child first, and popped boxes entered at or beyond
+    /// `t_max` skipped.
     #[inline(always)]
-    fn walk<const ANY: bool>(
-        &self,
-        ray: &Ray,
-        t_max: &mut f32,
-        mut leaf: impl FnMut(Range<usize>, &mut f32) -> Visit,
-    ) -> bool {
+    pub fn walk<const ANY: bool>(&self, ray: &Ray, t_max: &mut f32, leaf: &mut impl Leaf) -> bool {
         if self.order.is_empty() {
             return false;
         }
@@ -184,7 +196,7 @@ impl Bvh {
         let mut cur = self.root;
         loop {
             if cur & LEAF != 0 {
-                if leaf(leaf_packs(cur), t_max) == Visit::Stop {
+                if leaf.leaf(leaf_packs(cur), t_max) == Visit::Stop {
                     return true;
                 }
             } else {

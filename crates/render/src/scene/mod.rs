@@ -3,10 +3,11 @@
 
 mod few;
 mod packet;
+mod walk;
 
 pub use packet::{lanes_of, PacketHits};
 
-use crate::bvh::{Bvh, Ray4, Tri4, Visit};
+use crate::bvh::{Bvh, Tri4};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::light::{AreaLight, Light, LightSample, RefPoint};
@@ -14,6 +15,7 @@ use crate::material::Material;
 use crate::ray::{spawn_ray, spawn_ray_to, surface_epsilon, Ray};
 use crate::shape::mesh::intersect_triangle;
 use crate::shape::{Geometry, Sphere, SurfacePoint};
+use crate::simd::{dispatch, Simd};
 use crate::texture::Texture;
 use glam::{Vec2, Vec3};
 use radiometry::{Frame, Rgb};
@@ -171,7 +173,20 @@ impl SceneBuilder {
         let few = (prims.len() <= LINEAR_MAX && !prims.iter().any(|p| matches!(p, Prim::Triangle { .. })))
             .then(|| few::Few::new(&prims));
         let environment = lights.iter().position(Light::is_environment);
-        Ok(Scene { camera, shapes, lights, light_of_shape, environment, bvh, prims, tri4, others, few, refs })
+        Ok(Scene {
+            camera,
+            shapes,
+            lights,
+            light_of_shape,
+            environment,
+            bvh,
+            prims,
+            tri4,
+            others,
+            few,
+            refs,
+            simd: Simd::detect(),
+        })
     }
 }
 
@@ -201,9 +216,22 @@ pub struct Scene {
     few: Option<few::Few>,
     /// (shape, primitive within the shape) per BVH-ordered primitive.
     refs: Vec<(u32, u32)>,
+    /// The instruction set single-ray queries are compiled for.
+    simd: Simd,
 }
 
 impl Scene {
+    /// The instruction set its ray queries run on (the image does not depend on it): the
+    /// widest the CPU has unless set otherwise ([`Simd::detect`]).
+    pub fn simd(&self) -> Simd {
+        self.simd
+    }
+
+    /// Makes its ray queries run on `simd` (a set the CPU has: see [`Simd::parse`]).
+    pub fn set_simd(&mut self, simd: Simd) {
+        self.simd = simd;
+    }
+
     /// The shapes.
     pub fn shapes(&self) -> &[Shape] {
         &self.shapes
@@ -246,31 +274,7 @@ impl Scene {
         if let Some(few) = &self.few {
             return self.intersect_t_few(few, ray);
         }
-        let mut best = None; // (pack, lane, t)
-        let mut t_max = ray.t_max;
-        self.bvh.walk_closest(ray, &mut t_max, |packs, t_max| {
-            // Splatted here, not before the walk: most rays reach few leaves, many none.
-            let r4 = Ray4::new(ray.o, ray.d);
-            for p in packs {
-                let mixed = !self.others.is_empty();
-                if !mixed || self.others[p] & HAS_TRIANGLES != 0 {
-                    if let Some((lane, t)) = self.tri4[p].closest(&r4, *t_max) {
-                        *t_max = t;
-                        best = Some((p, lane, t));
-                    }
-                }
-                if mixed {
-                    let k0 = self.bvh.pack(p).start;
-                    for_lanes(self.others[p] & !HAS_TRIANGLES, |lane| {
-                        if let Some(t) = self.intersect_prim(k0 + lane, ray.o, ray.d, *t_max) {
-                            *t_max = t;
-                            best = Some((p, lane, t));
-                        }
-                    });
-                }
-            }
-        });
-        best.map(|(p, lane, t)| (self.bvh.pack(p).start + lane, t))
+        dispatch!(self.simd, self: Scene, closest_walk(ray: &Ray) -> Option<(usize, f32)>)
     }
 
     /// The closest hit by testing every primitive (no BVH): the reference the BVH is tested
@@ -297,31 +301,10 @@ impl Scene {
     /// `skip`: a shadow ray towards a point on a convex emitter cannot be blocked by it.
     #[inline]
     pub(crate) fn occluded_but(&self, ray: &Ray, skip: Option<u32>) -> bool {
-        let counts = |k: usize| skip != Some(self.refs[k].0) || matches!(self.prims[k], Prim::Triangle { .. });
         if let Some(few) = &self.few {
             return self.occluded_few(few, ray, skip);
         }
-        self.bvh.walk_any(ray, |packs| {
-            let r4 = Ray4::new(ray.o, ray.d);
-            for p in packs {
-                let mixed = !self.others.is_empty();
-                if (!mixed || self.others[p] & HAS_TRIANGLES != 0) && self.tri4[p].any(&r4, ray.t_max) {
-                    return Visit::Stop;
-                }
-                if mixed {
-                    let k0 = self.bvh.pack(p).start;
-                    let mut hit = false;
-                    for_lanes(self.others[p] & !HAS_TRIANGLES, |lane| {
-                        let k = k0 + lane;
-                        hit = hit || (counts(k) && self.intersect_prim(k, ray.o, ray.d, ray.t_max).is_some());
-                    });
-                    if hit {
-                        return Visit::Stop;
-                    }
-                }
-            }
-            Visit::Continue
-        })
+        dispatch!(self.simd, self: Scene, any_walk(ray: &Ray, skip: Option<u32>) -> bool)
     }
 
     /// True when the light sample `ls` is unobstructed from surface point `p` (geometric
@@ -449,14 +432,5 @@ impl Scene {
             (Light::EnvMap(e), _) => e.pdf(wi),
         };
         pdf * self.light_select_pdf()
-    }
-}
-
-/// Calls `f` with the index of every set bit of `mask`, lowest first.
-#[inline]
-fn for_lanes(mut mask: u8, mut f: impl FnMut(usize)) {
-    while mask != 0 {
-        f(mask.trailing_zeros() as usize);
-        mask &= mask - 1;
     }
 }

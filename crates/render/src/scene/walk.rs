@@ -1,0 +1,98 @@
+//! The single-ray queries through the BVH: closest hit and any hit, their leaf tests written as
+//! [`Leaf`] methods so that the whole walk compiles into each instruction set's copy
+//! (`simd::dispatch!`). Triangles are tested four at a time ([`Tri4`]), other primitives one by one.
+
+use super::{Prim, Scene, HAS_TRIANGLES};
+use crate::bvh::{Leaf, Ray4, Visit};
+use crate::ray::Ray;
+use std::ops::Range;
+
+/// The closest-hit leaf test: keeps the nearest (pack, lane, distance).
+struct Closest<'a> {
+    scene: &'a Scene,
+    ray: &'a Ray,
+    best: Option<(usize, usize, f32)>,
+}
+
+impl Leaf for Closest<'_> {
+    #[inline(always)]
+    fn leaf(&mut self, packs: Range<usize>, t_max: &mut f32) -> Visit {
+        let (s, ray) = (self.scene, self.ray);
+        // Splatted here, not before the walk: most rays reach few leaves, many none.
+        let r4 = Ray4::new(ray.o, ray.d);
+        let mixed = !s.others.is_empty();
+        for p in packs {
+            if !mixed || s.others[p] & HAS_TRIANGLES != 0 {
+                if let Some((lane, t)) = s.tri4[p].closest(&r4, *t_max) {
+                    *t_max = t;
+                    self.best = Some((p, lane, t));
+                }
+            }
+            if mixed {
+                let k0 = s.bvh.pack(p).start;
+                let mut lanes = s.others[p] & !HAS_TRIANGLES;
+                while lanes != 0 {
+                    let lane = lanes.trailing_zeros() as usize;
+                    lanes &= lanes - 1;
+                    if let Some(t) = s.intersect_prim(k0 + lane, ray.o, ray.d, *t_max) {
+                        *t_max = t;
+                        self.best = Some((p, lane, t));
+                    }
+                }
+            }
+        }
+        Visit::Continue
+    }
+}
+
+/// The any-hit leaf test, not counting the analytic primitives of shape `skip`.
+struct Any<'a> {
+    scene: &'a Scene,
+    ray: &'a Ray,
+    skip: Option<u32>,
+}
+
+impl Leaf for Any<'_> {
+    #[inline(always)]
+    fn leaf(&mut self, packs: Range<usize>, _: &mut f32) -> Visit {
+        let (s, ray) = (self.scene, self.ray);
+        let r4 = Ray4::new(ray.o, ray.d);
+        let mixed = !s.others.is_empty();
+        for p in packs {
+            if (!mixed || s.others[p] & HAS_TRIANGLES != 0) && s.tri4[p].any(&r4, ray.t_max) {
+                return Visit::Stop;
+            }
+            if mixed {
+                let k0 = s.bvh.pack(p).start;
+                let mut lanes = s.others[p] & !HAS_TRIANGLES;
+                while lanes != 0 {
+                    let k = k0 + lanes.trailing_zeros() as usize;
+                    lanes &= lanes - 1;
+                    let counts = self.skip != Some(s.refs[k].0) || matches!(s.prims[k], Prim::Triangle { .. });
+                    if counts && s.intersect_prim(k, ray.o, ray.d, ray.t_max).is_some() {
+                        return Visit::Stop;
+                    }
+                }
+            }
+        }
+        Visit::Continue
+    }
+}
+
+impl Scene {
+    /// The closest hit through the BVH as (BVH-ordered primitive, distance).
+    #[inline(always)]
+    pub(super) fn closest_walk(&self, ray: &Ray) -> Option<(usize, f32)> {
+        let mut leaf = Closest { scene: self, ray, best: None };
+        let mut t_max = ray.t_max;
+        self.bvh.walk::<false>(ray, &mut t_max, &mut leaf);
+        leaf.best.map(|(p, lane, t)| (self.bvh.pack(p).start + lane, t))
+    }
+
+    /// True when something other than shape `skip`'s analytic primitives lies along the ray.
+    #[inline(always)]
+    pub(super) fn any_walk(&self, ray: &Ray, skip: Option<u32>) -> bool {
+        let mut t_max = ray.t_max;
+        self.bvh.walk::<true>(ray, &mut t_max, &mut Any { scene: self, ray, skip })
+    }
+}
