@@ -15,6 +15,19 @@ pub struct AliasTable {
 }
 
 impl AliasTable {
+    /// The entry `sample(u_index, …)` reads.
+    #[inline]
+    fn slot(&self, u_index: f32) -> usize {
+        let n = self.entries.len();
+        ((u_index * n as f32) as usize).min(n - 1)
+    }
+
+    /// Starts loading the entry that `sample(u_index, …)` will read.
+    #[inline]
+    pub fn prefetch(&self, u_index: f32) {
+        crate::prefetch::prefetch(&self.entries[self.slot(u_index)]);
+    }
+
     /// From non-negative weights (others count as zero). None when there is none, more than
     /// 2³² of them, or they sum to zero.
     pub fn new(weights: &[f32]) -> Option<Self> {
@@ -66,8 +79,7 @@ impl AliasTable {
     /// outcomes), with `u_coin` rescaled to a fresh uniform number in [0, 1).
     #[inline]
     pub fn sample(&self, u_index: f32, u_coin: f32) -> (usize, f32) {
-        let n = self.entries.len();
-        let k = ((u_index * n as f32) as usize).min(n - 1);
+        let k = self.slot(u_index);
         let (q, alias) = self.entries[k];
         let below_one = 1.0 - f32::EPSILON / 2.0;
         if u_coin < q {

@@ -8,6 +8,7 @@ pub mod cie;
 pub mod distribution;
 pub mod frame;
 pub mod integrate;
+pub mod prefetch;
 pub mod spectrum;
 pub mod spherical;
 pub mod warp;

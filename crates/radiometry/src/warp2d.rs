@@ -92,6 +92,24 @@ impl Bilinear2D {
         self.cell_scale(i, j) * bilerp(self.corners(i, j), frac)
     }
 
+    /// Starts loading the alias-table entry that `sample(uc, …)` will read.
+    #[inline]
+    pub fn prefetch_cell_choice(&self, uc: f32) {
+        self.cell.prefetch(uc);
+    }
+
+    /// The cell `sample(uc, u)` lands in, with its corners asked for.
+    #[inline]
+    pub fn prefetch_cell(&self, uc: f32, u_y: f32) -> (usize, usize) {
+        let k = self.cell.sample(uc, u_y).0;
+        let cx = self.nx - 1;
+        let (i, j) = (k % cx, k / cx);
+        let at = j * self.nx + i;
+        crate::prefetch::prefetch(&self.values[at]);
+        crate::prefetch::prefetch(&self.values[at + self.nx]);
+        (i, j)
+    }
+
     /// The cell holding point `p` of the unit square, and the fraction within it.
     #[inline]
     pub fn locate(&self, p: Vec2) -> (usize, usize, Vec2) {

@@ -26,6 +26,7 @@ use crate::light::RefPoint;
 use crate::ray::{spawn_ray, Ray};
 use crate::sampler::Sampler;
 use crate::scene::{Scene, ShadowTest, SurfaceInteraction};
+use glam::Vec2;
 use radiometry::Rgb;
 
 /// What the previous vertex's BRDF sample needs for the MIS weight of emission found next.
@@ -41,6 +42,27 @@ enum Step {
     Continue { ray: Ray, weight: Rgb, eta: f32, prev: Previous, pass_through: bool },
     /// The path ends here.
     Stop,
+}
+
+/// The uniform numbers a vertex uses: light choice, light sample, BRDF sample.
+#[derive(Clone, Copy)]
+struct VertexNumbers {
+    uc: f32,
+    uc2: f32,
+    u: Vec2,
+    bc: f32,
+    bu: Vec2,
+}
+
+impl VertexNumbers {
+    /// Draws them, and starts loading the light sample's first table entry.
+    #[inline]
+    fn draw(sampler: &mut Sampler, scene: &Scene) -> Self {
+        let (uc, uc2, u) = (sampler.next_1d(), sampler.next_1d(), sampler.next_2d());
+        let (bc, bu) = (sampler.next_1d(), sampler.next_2d());
+        scene.prefetch_light(uc, uc2);
+        VertexNumbers { uc, uc2, u, bc, bu }
+    }
 }
 
 /// The first surface the camera ray meets; with `hide` it passes through area lights.
@@ -110,6 +132,11 @@ pub fn trace(
     }
     let mut ray = ray;
     let mut hit = first;
+    // Each vertex's numbers are drawn before its ray query, so that the light sample's first
+    // table read can start loading meanwhile. The draws keep their order (a vertex's, then its
+    // Russian roulette), and numbers drawn for a vertex the path never reaches go unused: the
+    // stream is the sample's own, so the image does not change.
+    let mut numbers = VertexNumbers::draw(sampler, scene);
     loop {
         let Some(si) = hit else {
             if !hide_emitters || scattered {
@@ -142,8 +169,8 @@ pub fn trace(
         if !(wo.z != 0.0) {
             break;
         }
-        let (uc, uc2, u) = (sampler.next_1d(), sampler.next_1d(), sampler.next_2d());
-        let (bc, bu) = (sampler.next_1d(), sampler.next_2d());
+        let VertexNumbers { uc, uc2, u, bc, bu } = numbers;
+        scene.prefetch_light_cell(uc, uc2, u);
         let step = scene.material(si.shape).with(&si, |brdf| {
             if wo.z < 0.0 && !brdf.back_side() {
                 return Step::Stop;
@@ -199,6 +226,7 @@ pub fn trace(
         if beta.max_channel() <= 0.0 {
             break;
         }
+        numbers = VertexNumbers::draw(sampler, scene);
         hit = scene.intersect(&ray);
     }
     result

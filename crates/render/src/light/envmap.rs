@@ -165,6 +165,27 @@ impl EnvMap {
         warp.cell_scale(i, j) * p_over_sin * (0.5 / (PI * PI))
     }
 
+    /// Starts loading what `sample(_, uc, _)` reads first, the cell choice's table entry: called
+    /// well before `sample`, its cache miss overlaps other work.
+    #[inline]
+    pub fn prefetch_sample(&self, uc: f32) {
+        if let Some(warp) = self.warp.as_ref().filter(|_| self.importance) {
+            warp.prefetch_cell_choice(uc);
+        }
+    }
+
+    /// Once that entry is loaded, starts loading the cell's corners and texels that
+    /// `sample(_, uc, u)` reads next.
+    #[inline]
+    pub fn prefetch_sample_cell(&self, uc: f32, u: Vec2) {
+        if let Some(warp) = self.warp.as_ref().filter(|_| self.importance) {
+            let (i, j) = warp.prefetch_cell(uc, u.y);
+            let k = j * (self.width + 1) + i;
+            radiometry::prefetch::prefetch(&self.texels[k]);
+            radiometry::prefetch::prefetch(&self.texels[k + self.width + 1]);
+        }
+    }
+
     /// A direction towards the environment with its solid-angle density and radiance, from
     /// uniform numbers `uc` and `u`.
     pub fn sample(&self, p: Vec3, uc: f32, u: Vec2) -> Option<LightSample> {

@@ -402,14 +402,39 @@ impl Scene {
         1.0 / self.lights.len().max(1) as f32
     }
 
+    /// The light `sample_light(_, uc, …)` chooses (0 when there is none).
+    #[inline]
+    fn light_index(&self, uc: f32) -> usize {
+        let n = self.lights.len();
+        ((uc * n as f32) as usize).min(n.saturating_sub(1))
+    }
+
+    /// Starts loading the first table entry that `sample_light(_, uc, uc2, _)` will read, where
+    /// the light it chooses has one (an environment map's cell choice). A hint: called before
+    /// other work, such as the ray query that finds the point the light is sampled from, it
+    /// hides the cache miss; it changes no result.
+    #[inline]
+    pub fn prefetch_light(&self, uc: f32, uc2: f32) {
+        if let Some(Light::EnvMap(e)) = self.lights.get(self.light_index(uc)) {
+            e.prefetch_sample(uc2);
+        }
+    }
+
+    /// After [`prefetch_light`](Self::prefetch_light) has had time, starts loading what
+    /// `sample_light(_, uc, uc2, u)` reads next (the map cell's corners and texels).
+    #[inline]
+    pub fn prefetch_light_cell(&self, uc: f32, uc2: f32, u: Vec2) {
+        if let Some(Light::EnvMap(e)) = self.lights.get(self.light_index(uc)) {
+            e.prefetch_sample_cell(uc2, u);
+        }
+    }
+
     /// Chooses a light uniformly and samples it; the returned pdf includes the choice.
     pub fn sample_light(&self, r: &RefPoint, uc: f32, uc2: f32, u: Vec2) -> Option<LightSample> {
         if self.lights.is_empty() {
             return None;
         }
-        let n = self.lights.len();
-        let i = ((uc * n as f32) as usize).min(n - 1);
-        let mut s = match &self.lights[i] {
+        let mut s = match &self.lights[self.light_index(uc)] {
             Light::Point(l) => l.sample(r)?,
             Light::Spot(l) => l.sample(r)?,
             Light::Directional(l) => l.sample(r)?,
