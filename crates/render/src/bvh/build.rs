@@ -1,20 +1,23 @@
 //! The binary tree the wide hierarchy is collapsed from: binned SAH (Wald, "On fast
 //! construction of SAH-based bounding volume hierarchies", 2007), the three axes binned in
-//! one pass over the primitives. A leaf costs one test per four primitives, since leaves
-//! are tested four at a time.
+//! one pass over the primitives. A leaf costs one test per pack of sixteen primitives, since
+//! leaves are tested a pack at a time.
 
+use super::PACK;
 use crate::shape::Aabb;
 use glam::Vec3A;
 
 /// SAH bins per axis.
 const BINS: usize = 16;
 /// Leaves hold at most this many primitives.
-pub(super) const MAX_LEAF: usize = 8;
+pub(super) const MAX_LEAF: usize = PACK;
 /// Below this depth splits follow the SAH; deeper ones halve by index, which bounds the
 /// depth by this plus log₂ of the primitive count even for pathological inputs.
 const SAH_DEPTH: usize = 64;
-/// Cost of one node visit relative to one test of four primitives.
+/// Cost of one node visit.
 const TRAVERSAL_COST: f32 = 1.0;
+/// Cost of one test of a pack of primitives, relative to a node visit.
+const PACK_TEST_COST: f32 = 2.0;
 
 /// A binary node: its box, and either two children or a range of primitives.
 #[derive(Clone, Copy, Debug)]
@@ -64,10 +67,10 @@ pub(super) fn build_binary(bounds: &[Aabb]) -> (Vec<BinaryNode>, Vec<u32>) {
     (nodes, order)
 }
 
-/// The SAH cost of testing `n` primitives in one leaf, in four-wide tests.
+/// The SAH cost of testing `n` primitives in one leaf, in node visits.
 #[inline]
 fn leaf_cost(n: usize) -> f32 {
-    n.div_ceil(4) as f32
+    n.div_ceil(PACK) as f32 * PACK_TEST_COST
 }
 
 /// The primitives' boxes and centroids, by original index.

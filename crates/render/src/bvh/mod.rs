@@ -6,18 +6,18 @@
 //! traversal goes nearest child first and skips boxes entered beyond the best hit, any-hit
 //! traversal stops at the first hit.
 //!
-//! Leaves are runs of *packs*: groups of up to four consecutive primitives (in BVH order)
-//! that callers test together, e.g. as a [`Tri4`]. The hierarchy knows only boxes.
+//! Leaves are runs of *packs*: groups of up to [`PACK`] (sixteen) consecutive primitives (in
+//! BVH order) that callers test together, e.g. as a [`Tri16`]. The hierarchy knows only boxes.
 
 mod build;
 mod packet;
 #[cfg(test)]
 mod tests;
-mod tri4;
+mod tri16;
 mod wide;
 
 pub use packet::{PacketLeaf, RayPacket};
-pub use tri4::{Ray4, Tri4};
+pub use tri16::{Ray16, Tri16, PACK};
 
 use crate::ray::Ray;
 use crate::shape::Aabb;
@@ -25,7 +25,7 @@ use build::{build_binary, BinaryNode, MAX_LEAF};
 use std::ops::Range;
 use wide::{leaf_packs, leaf_ref, Node4, RayBox, LEAF, MAX_LEAF_PACKS, MAX_PACKS};
 
-const _: () = assert!(MAX_LEAF <= 4 * MAX_LEAF_PACKS, "a leaf must fit one leaf reference");
+const _: () = assert!(MAX_LEAF <= PACK * MAX_LEAF_PACKS, "a leaf must fit one leaf reference");
 
 /// Traversal stack entries kept on the call stack (cheap to zero); deeper trees use a
 /// heap stack.
@@ -114,7 +114,7 @@ impl Bvh {
         self.pack_start.len() - 1
     }
 
-    /// The BVH-ordered primitives of pack `p` (one to four).
+    /// The BVH-ordered primitives of pack `p` (one to [`PACK`]).
     #[inline]
     pub fn pack(&self, p: usize) -> Range<usize> {
         self.pack_start[p] as usize..self.pack_start[p + 1] as usize
@@ -275,7 +275,7 @@ impl Collapse<'_> {
         if node.count > 0 {
             let first = self.pack_start.len();
             let (start, end) = (node.offset as usize, (node.offset + node.count) as usize);
-            self.pack_start.extend((start..end).step_by(4).map(|k| k as u32));
+            self.pack_start.extend((start..end).step_by(PACK).map(|k| k as u32));
             return leaf_ref(first, self.pack_start.len() - first);
         }
         self.depth = self.depth.max(depth + 1);
@@ -316,9 +316,9 @@ mod tree_tests {
         if r & LEAF != 0 {
             let packs = leaf_packs(r);
             let ks = bvh.pack(packs.start).start..bvh.pack(packs.end - 1).end;
-            assert!(ks.len() <= MAX_LEAF && packs.len() == ks.len().div_ceil(4));
+            assert!(ks.len() <= MAX_LEAF && packs.len() == ks.len().div_ceil(PACK));
             for p in packs {
-                assert!((1..=4).contains(&bvh.pack(p).len()));
+                assert!((1..=PACK).contains(&bvh.pack(p).len()));
             }
             for k in ks {
                 assert!(inside(&boxes[bvh.order[k] as usize]));

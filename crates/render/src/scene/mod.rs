@@ -7,7 +7,7 @@ mod walk;
 
 pub use packet::{lanes_of, PacketHits};
 
-use crate::bvh::{Bvh, Tri4};
+use crate::bvh::{Bvh, Tri16};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::light::{AreaLight, Light, LightSample, RefPoint};
@@ -153,9 +153,9 @@ impl SceneBuilder {
                 Geometry::Disk(_) => Prim::Disk,
             })
             .collect::<Vec<_>>();
-        let mut tri4 = vec![Tri4::default(); bvh.pack_count()];
-        let mut others = vec![0u8; bvh.pack_count()];
-        for (p, (pack, other)) in tri4.iter_mut().zip(&mut others).enumerate() {
+        let mut tri16 = vec![Tri16::default(); bvh.pack_count()];
+        let mut others = vec![0u32; bvh.pack_count()];
+        for (p, (pack, other)) in tri16.iter_mut().zip(&mut others).enumerate() {
             for (lane, k) in bvh.pack(p).enumerate() {
                 match prims[k] {
                     Prim::Triangle { p0, e1, e2 } => {
@@ -181,7 +181,7 @@ impl SceneBuilder {
             environment,
             bvh,
             prims,
-            tri4,
+            tri16,
             others,
             few,
             refs,
@@ -190,8 +190,8 @@ impl SceneBuilder {
     }
 }
 
-/// The bit of `Scene::others` saying a pack holds triangles (lanes take bits 0 to 3).
-const HAS_TRIANGLES: u8 = 0x10;
+/// The bit of `Scene::others` saying a pack holds triangles (lanes take bits 0 to 15).
+const HAS_TRIANGLES: u32 = 1 << crate::bvh::PACK;
 
 /// Up to this many analytic primitives, testing each beats walking the BVH (measured with
 /// callgrind on the bench scenes: one to five spheres and rectangles).
@@ -208,10 +208,10 @@ pub struct Scene {
     bvh: Bvh,
     prims: Vec<Prim>,
     /// The triangles of each BVH pack, in its lanes.
-    tri4: Vec<Tri4>,
+    tri16: Vec<Tri16>,
     /// Per BVH pack, the lanes holding other primitives than triangles, and [`HAS_TRIANGLES`]
     /// when some lane holds a triangle; empty when all packs hold triangles only.
-    others: Vec<u8>,
+    others: Vec<u32>,
     /// A few analytic shapes and no triangle: rays test them all, without the BVH.
     few: Option<few::Few>,
     /// (shape, primitive within the shape) per BVH-ordered primitive.

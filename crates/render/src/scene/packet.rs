@@ -5,7 +5,7 @@
 //! distances possibly another of the tied primitives.
 
 use super::Scene;
-use crate::bvh::{PacketLeaf, RayPacket};
+use crate::bvh::{PacketLeaf, Ray16, RayPacket};
 use crate::ray::Ray;
 use crate::simd::{dispatch, for_bits, Simd, F16, LANES, M16};
 use std::ops::Range;
@@ -103,6 +103,14 @@ fn coherent(rays: &[Ray; LANES], active: u32) -> bool {
     octants.count_ones() <= 2
 }
 
+/// Whether a pack of `triangles` is tested faster ray by ray, all its triangles at once, than
+/// triangle by triangle against the live rays `live` at once: when the rays are fewer. Both give
+/// every (ray, triangle) pair the same operations, and the same nearest hit on ties (lowest lane).
+#[inline(always)]
+fn fewer_rays(live: M16, triangles: usize) -> bool {
+    (live.bits().count_ones() as usize) < triangles
+}
+
 /// The closest-hit leaf test: the BVH-ordered primitive each lane hits nearest so far.
 struct Closest<'a> {
     scene: &'a Scene,
@@ -117,9 +125,24 @@ impl PacketLeaf for Closest<'_> {
         let s = self.scene;
         for pk in packs {
             let others = if s.others.is_empty() { 0 } else { s.others[pk] };
-            for (lane, k) in s.bvh.pack(pk).enumerate() {
+            let ks = s.bvh.pack(pk);
+            if others == 0 && fewer_rays(lanes, ks.len()) {
+                // A loop, not `for_bits`: a closure's body would not be compiled for the set.
+                let mut m = lanes.bits();
+                while m != 0 {
+                    let i = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    let r = &self.rays[i];
+                    if let Some((lane, t)) = s.tri16[pk].closest(&Ray16::new(r.o, r.d), t_max.0[i]) {
+                        t_max.0[i] = t;
+                        self.best[i] = (ks.start + lane) as u32;
+                    }
+                }
+                continue;
+            }
+            for (lane, k) in ks.enumerate() {
                 if others & (1 << lane) == 0 {
-                    let (t, hit) = s.tri4[pk].hits_packet(lane, self.p, t_max);
+                    let (t, hit) = s.tri16[pk].hits_packet(lane, self.p, t_max);
                     let hit = hit.and(lanes);
                     *t_max = t_max.blend(hit, t);
                     self.best = hit.select_u32([k as u32; LANES], self.best);
@@ -153,9 +176,24 @@ impl PacketLeaf for Any<'_> {
         let mut blocked = M16::NONE;
         for pk in packs {
             let others = if s.others.is_empty() { 0 } else { s.others[pk] };
-            for (lane, k) in s.bvh.pack(pk).enumerate() {
+            let ks = s.bvh.pack(pk);
+            if others == 0 && fewer_rays(lanes.and_not(blocked), ks.len()) {
+                let (mut b, mut m) = (blocked.bits(), lanes.and_not(blocked).bits());
+                while m != 0 {
+                    let i = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    let r = &self.rays[i];
+                    b |= (s.tri16[pk].any(&Ray16::new(r.o, r.d), t_max.0[i]) as u32) << i;
+                }
+                blocked = M16::from_bits(b);
+                if !lanes.and_not(blocked).any() {
+                    return blocked;
+                }
+                continue;
+            }
+            for (lane, k) in ks.enumerate() {
                 if others & (1 << lane) == 0 {
-                    blocked = blocked.or(s.tri4[pk].hits_packet(lane, self.p, t_max).1.and(lanes));
+                    blocked = blocked.or(s.tri16[pk].hits_packet(lane, self.p, t_max).1.and(lanes));
                 } else {
                     let shape = s.refs[k].0;
                     let mut b = blocked.bits();

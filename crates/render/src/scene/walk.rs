@@ -1,9 +1,9 @@
 //! The single-ray queries through the BVH: closest hit and any hit, their leaf tests written as
 //! [`Leaf`] methods so that the whole walk compiles into each instruction set's copy
-//! (`simd::dispatch!`). Triangles are tested four at a time ([`Tri4`]), other primitives one by one.
+//! (`simd::dispatch!`). Triangles are tested sixteen at a time ([`Tri16`]), other primitives one by one.
 
 use super::{Prim, Scene, HAS_TRIANGLES};
-use crate::bvh::{Leaf, Ray4, Visit};
+use crate::bvh::{Leaf, Ray16, Visit};
 use crate::ray::Ray;
 use std::ops::Range;
 
@@ -19,11 +19,11 @@ impl Leaf for Closest<'_> {
     fn leaf(&mut self, packs: Range<usize>, t_max: &mut f32) -> Visit {
         let (s, ray) = (self.scene, self.ray);
         // Splatted here, not before the walk: most rays reach few leaves, many none.
-        let r4 = Ray4::new(ray.o, ray.d);
+        let r16 = Ray16::new(ray.o, ray.d);
         let mixed = !s.others.is_empty();
         for p in packs {
             if !mixed || s.others[p] & HAS_TRIANGLES != 0 {
-                if let Some((lane, t)) = s.tri4[p].closest(&r4, *t_max) {
+                if let Some((lane, t)) = s.tri16[p].closest(&r16, *t_max) {
                     *t_max = t;
                     self.best = Some((p, lane, t));
                 }
@@ -56,10 +56,10 @@ impl Leaf for Any<'_> {
     #[inline(always)]
     fn leaf(&mut self, packs: Range<usize>, _: &mut f32) -> Visit {
         let (s, ray) = (self.scene, self.ray);
-        let r4 = Ray4::new(ray.o, ray.d);
+        let r16 = Ray16::new(ray.o, ray.d);
         let mixed = !s.others.is_empty();
         for p in packs {
-            if (!mixed || s.others[p] & HAS_TRIANGLES != 0) && s.tri4[p].any(&r4, ray.t_max) {
+            if (!mixed || s.others[p] & HAS_TRIANGLES != 0) && s.tri16[p].any(&r16, ray.t_max) {
                 return Visit::Stop;
             }
             if mixed {
