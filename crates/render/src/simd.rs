@@ -114,10 +114,10 @@ macro_rules! dispatch {
                 this.$method($($a),*)
             }
             match $simd {
-                // SAFETY: `Simd::Avx512` and `Simd::Avx2` are only made by `Simd::parse` and
-                // `Simd::best`, which check that the CPU has the features.
-                $crate::simd::Simd::Avx512 => unsafe { avx512($this, $($a),*) },
-                $crate::simd::Simd::Avx2 => unsafe { avx2($this, $($a),*) },
+                // SAFETY: the guards check that the CPU has the features (a cached flag test:
+                // `Simd`'s variants can be named by anyone, so being given one proves nothing).
+                s @ $crate::simd::Simd::Avx512 if s.available() => unsafe { avx512($this, $($a),*) },
+                s @ $crate::simd::Simd::Avx2 if s.available() => unsafe { avx2($this, $($a),*) },
                 _ => $this.$method($($a),*),
             }
         }

@@ -227,7 +227,7 @@ impl Scene {
         self.simd
     }
 
-    /// Makes its ray queries run on `simd` (a set the CPU has: see [`Simd::parse`]).
+    /// Makes its ray queries run on `simd`; on a set this CPU lacks they run the baseline code.
     pub fn set_simd(&mut self, simd: Simd) {
         self.simd = simd;
     }

@@ -1,8 +1,9 @@
 //! The single-ray queries through the BVH: closest hit and any hit, their leaf tests written as
 //! [`Leaf`] methods so that the whole walk compiles into each instruction set's copy
-//! (`simd::dispatch!`). Triangles are tested sixteen at a time ([`Tri16`]), other primitives one by one.
+//! (`simd::dispatch!`). A pack's triangles are tested at once ([`Tri16`](crate::bvh::Tri16)),
+//! other primitives one by one.
 
-use super::{Prim, Scene, HAS_TRIANGLES};
+use super::{Scene, HAS_TRIANGLES};
 use crate::bvh::{Leaf, Ray16, Visit};
 use crate::ray::Ray;
 use std::ops::Range;
@@ -68,8 +69,7 @@ impl Leaf for Any<'_> {
                 while lanes != 0 {
                     let k = k0 + lanes.trailing_zeros() as usize;
                     lanes &= lanes - 1;
-                    let counts = self.skip != Some(s.refs[k].0) || matches!(s.prims[k], Prim::Triangle { .. });
-                    if counts && s.intersect_prim(k, ray.o, ray.d, ray.t_max).is_some() {
+                    if self.skip != Some(s.refs[k].0) && s.intersect_prim(k, ray.o, ray.d, ray.t_max).is_some() {
                         return Visit::Stop;
                     }
                 }
