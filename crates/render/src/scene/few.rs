@@ -3,7 +3,7 @@
 //! [`Sphere::intersect`] in its order (so the same distances bit for bit), the other shapes
 //! one by one.
 
-use super::{Prim, Scene};
+use super::Scene;
 use crate::ray::Ray;
 use crate::shape::Sphere;
 use crate::simd::dot;
@@ -52,14 +52,14 @@ pub(super) struct Few {
 }
 
 impl Few {
-    /// Over the BVH-ordered primitives `prims`.
-    pub fn new(prims: &[Prim]) -> Few {
+    /// Over `n` BVH-ordered primitives, `sphere(k)` giving those that are spheres.
+    pub fn new(n: usize, sphere: impl Fn(usize) -> Option<Sphere>) -> Few {
         let mut few = Few::default();
         let mut spheres: Vec<(u32, Sphere)> = Vec::new();
-        for (k, p) in prims.iter().enumerate() {
-            match p {
-                Prim::Sphere(s) => spheres.push((k as u32, *s)),
-                _ => few.others.push(k as u32),
+        for k in 0..n {
+            match sphere(k) {
+                Some(s) => spheres.push((k as u32, s)),
+                None => few.others.push(k as u32),
             }
         }
         for chunk in spheres.chunks(4) {

@@ -14,7 +14,7 @@ use crate::light::{AreaLight, Light, LightSample, RefPoint};
 use crate::material::Material;
 use crate::ray::{spawn_ray, spawn_ray_to, surface_epsilon, Ray};
 use crate::shape::mesh::intersect_triangle;
-use crate::shape::{Geometry, Sphere, SurfacePoint};
+use crate::shape::{Geometry, SurfacePoint};
 use crate::simd::{dispatch, Simd};
 use crate::texture::Texture;
 use glam::{Vec2, Vec3};
@@ -37,16 +37,6 @@ impl Shape {
     pub fn new(geometry: Geometry, material: impl Into<Material>) -> Self {
         Shape { geometry, material: material.into(), emission: None }
     }
-}
-
-/// One BVH primitive in BVH order. Triangles are also stored in four-wide packs, which the
-/// traversal tests; the other kinds are tested one by one through this enum.
-#[derive(Clone, Copy, Debug)]
-enum Prim {
-    Triangle { p0: Vec3, e1: Vec3, e2: Vec3 },
-    Sphere(Sphere),
-    Rectangle,
-    Disk,
 }
 
 /// Where a ray meets a surface.
@@ -141,24 +131,14 @@ impl SceneBuilder {
         }
         let bvh = Bvh::build(&bounds);
         let refs: Vec<(u32, u32)> = bvh.order.iter().map(|&i| refs[i as usize]).collect();
-        let prims = refs
-            .iter()
-            .map(|&(s, k)| match &shapes[s as usize].geometry {
-                Geometry::Mesh(m) => {
-                    let [a, b, c] = m.triangle(k as usize);
-                    Prim::Triangle { p0: a, e1: b - a, e2: c - a }
-                }
-                Geometry::Sphere(sp) => Prim::Sphere(*sp),
-                Geometry::Rectangle(_) => Prim::Rectangle,
-                Geometry::Disk(_) => Prim::Disk,
-            })
-            .collect::<Vec<_>>();
         let mut tri16 = vec![Tri16::default(); bvh.pack_count()];
         let mut others = vec![0u32; bvh.pack_count()];
         for (p, (pack, other)) in tri16.iter_mut().zip(&mut others).enumerate() {
             for (lane, k) in bvh.pack(p).enumerate() {
-                match prims[k] {
-                    Prim::Triangle { p0, e1, e2 } => {
+                let (s, i) = refs[k];
+                match &shapes[s as usize].geometry {
+                    Geometry::Mesh(m) => {
+                        let (p0, e1, e2) = corner_edges(m, i);
                         pack.set(lane, p0, e1, e2);
                         *other |= HAS_TRIANGLES;
                     }
@@ -170,8 +150,15 @@ impl SceneBuilder {
         if others.iter().all(|&m| m == HAS_TRIANGLES) {
             others.clear();
         }
-        let few = (prims.len() <= LINEAR_MAX && !prims.iter().any(|p| matches!(p, Prim::Triangle { .. })))
-            .then(|| few::Few::new(&prims));
+        let geometry = |k: usize| &shapes[refs[k].0 as usize].geometry;
+        let few = (refs.len() <= LINEAR_MAX && !(0..refs.len()).any(|k| matches!(geometry(k), Geometry::Mesh(_))))
+            .then(|| {
+                let sphere = |k: usize| match geometry(k) {
+                    Geometry::Sphere(s) => Some(*s),
+                    _ => None,
+                };
+                few::Few::new(refs.len(), sphere)
+            });
         let environment = lights.iter().position(Light::is_environment);
         Ok(Scene {
             camera,
@@ -180,7 +167,6 @@ impl SceneBuilder {
             light_of_shape,
             environment,
             bvh,
-            prims,
             tri16,
             others,
             few,
@@ -206,7 +192,6 @@ pub struct Scene {
     light_of_shape: Vec<Option<usize>>,
     environment: Option<usize>,
     bvh: Bvh,
-    prims: Vec<Prim>,
     /// The triangles of each BVH pack, in its lanes.
     tri16: Vec<Tri16>,
     /// Per BVH pack, the lanes holding other primitives than triangles, and [`HAS_TRIANGLES`]
@@ -244,7 +229,7 @@ impl Scene {
 
     /// The number of BVH primitives.
     pub fn primitive_count(&self) -> usize {
-        self.prims.len()
+        self.refs.len()
     }
 
     /// The BVH.
@@ -254,17 +239,15 @@ impl Scene {
 
     #[inline]
     fn intersect_prim(&self, k: usize, o: Vec3, d: Vec3, t_max: f32) -> Option<f32> {
-        match &self.prims[k] {
-            Prim::Triangle { p0, e1, e2 } => intersect_triangle(o, d, t_max, *p0, *e1, *e2).map(|h| h.0),
-            Prim::Sphere(s) => s.intersect(o, d, t_max),
-            Prim::Rectangle => match &self.shapes[self.refs[k].0 as usize].geometry {
-                Geometry::Rectangle(r) => r.intersect(o, d, t_max),
-                _ => None,
-            },
-            Prim::Disk => match &self.shapes[self.refs[k].0 as usize].geometry {
-                Geometry::Disk(dk) => dk.intersect(o, d, t_max),
-                _ => None,
-            },
+        let (s, i) = self.refs[k];
+        match &self.shapes[s as usize].geometry {
+            Geometry::Mesh(m) => {
+                let (p0, e1, e2) = corner_edges(m, i);
+                intersect_triangle(o, d, t_max, p0, e1, e2).map(|h| h.0)
+            }
+            Geometry::Sphere(sp) => sp.intersect(o, d, t_max),
+            Geometry::Rectangle(r) => r.intersect(o, d, t_max),
+            Geometry::Disk(dk) => dk.intersect(o, d, t_max),
         }
     }
 
@@ -282,7 +265,7 @@ impl Scene {
     pub fn intersect_t_linear(&self, ray: &Ray) -> Option<(usize, f32)> {
         let mut best = None;
         let mut t_max = ray.t_max;
-        for k in 0..self.prims.len() {
+        for k in 0..self.refs.len() {
             if let Some(t) = self.intersect_prim(k, ray.o, ray.d, t_max) {
                 t_max = t;
                 best = Some((k, t));
@@ -346,16 +329,16 @@ impl Scene {
     /// The surface data where `ray` meets BVH-ordered primitive `k` at distance `t`.
     pub fn interaction(&self, ray: &Ray, k: usize, t: f32) -> SurfaceInteraction {
         let (shape, index) = self.refs[k];
-        let surface = match (&self.prims[k], &self.shapes[shape as usize].geometry) {
-            (Prim::Triangle { p0, e1, e2 }, Geometry::Mesh(m)) => {
+        let surface = match &self.shapes[shape as usize].geometry {
+            Geometry::Mesh(m) => {
                 // Recompute the barycentrics of the winning triangle (cheaper than carrying them).
-                let (_, u, v) = intersect_triangle(ray.o, ray.d, f32::INFINITY, *p0, *e1, *e2).unwrap_or((t, 0.0, 0.0));
+                let (p0, e1, e2) = corner_edges(m, index);
+                let (_, u, v) = intersect_triangle(ray.o, ray.d, f32::INFINITY, p0, e1, e2).unwrap_or((t, 0.0, 0.0));
                 m.surface(index as usize, u, v)
             }
-            (Prim::Sphere(s), _) => s.surface(ray.at(t)),
-            (_, Geometry::Rectangle(r)) => r.surface(ray.at(t)),
-            (_, Geometry::Disk(dk)) => dk.surface(ray.at(t)),
-            _ => unreachable!("primitive and shape kinds always match"),
+            Geometry::Sphere(s) => s.surface(ray.at(t)),
+            Geometry::Rectangle(r) => r.surface(ray.at(t)),
+            Geometry::Disk(dk) => dk.surface(ray.at(t)),
         };
         SurfaceInteraction::new(t, &surface, shape as usize)
     }
@@ -458,4 +441,12 @@ impl Scene {
         };
         pdf * self.light_select_pdf()
     }
+}
+
+/// Triangle `i` of mesh `m` as a corner and two edges, as the triangle tests take it (the same
+/// values wherever computed, so the packs and the one-by-one tests agree bit for bit).
+#[inline]
+fn corner_edges(m: &crate::shape::TriangleMesh, i: u32) -> (Vec3, Vec3, Vec3) {
+    let [a, b, c] = m.triangle(i as usize);
+    (a, b - a, c - a)
 }
