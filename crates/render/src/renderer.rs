@@ -127,7 +127,7 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
             if !lens {
                 *rays = scene.camera.rays(&at.map(|(_, pos)| pos), scene.simd());
             }
-            let l = opts.integrator.li_packet(scene, rays, samplers, active, scene.simd());
+            let l = opts.integrator.li_packet(scene, rays, samplers, active);
             for (&(x, pos), l) in at.iter().zip(l).take(n) {
                 out(x, pos, l);
             }

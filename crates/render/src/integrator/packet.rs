@@ -9,13 +9,12 @@ use super::{direct, finite, path, phong, Integrator};
 use crate::ray::Ray;
 use crate::sampler::Sampler;
 use crate::scene::{Scene, ShadowTest};
-use crate::simd::{for_bits, Simd, LANES};
+use crate::simd::{for_bits, LANES};
 use radiometry::Rgb;
 
 /// Shadow tests waiting to be answered as a packet, with what each adds to its lane if visible.
 struct ShadowQueue<'a> {
     scene: &'a Scene,
-    simd: Simd,
     rays: [Ray; LANES],
     skip: [Option<u32>; LANES],
     /// Bit i: entry i has a ray to test (else it is visible without one).
@@ -27,11 +26,10 @@ struct ShadowQueue<'a> {
 }
 
 impl<'a> ShadowQueue<'a> {
-    fn new(scene: &'a Scene, simd: Simd) -> Self {
+    fn new(scene: &'a Scene) -> Self {
         let ray = Ray::new(glam::Vec3::ZERO, glam::Vec3::Z);
         ShadowQueue {
             scene,
-            simd,
             rays: [ray; LANES],
             skip: [None; LANES],
             tested: 0,
@@ -55,7 +53,7 @@ impl<'a> ShadowQueue<'a> {
     }
 
     fn flush(&mut self) {
-        let blocked = self.scene.occluded_packet(&self.rays, &self.skip, self.tested, self.simd);
+        let blocked = self.scene.occluded_packet(&self.rays, &self.skip, self.tested, self.scene.simd());
         for (k, &(lane, c)) in self.add[..self.len].iter().enumerate() {
             if blocked >> k & 1 == 0 {
                 self.lit[lane] += c;
@@ -67,23 +65,22 @@ impl<'a> ShadowQueue<'a> {
 
 impl Integrator {
     /// The estimates along the camera rays of lanes `active`, each drawing from its own sampler:
-    /// for every lane what [`li`](Self::li) gives, ray queries made on the instruction set
-    /// `simd` (sixteen at a time unless it is [`Simd::Scalar`]).
+    /// for every lane what [`li`](Self::li) gives, ray queries made on the scene's instruction
+    /// set (sixteen at a time unless it is [`Simd::Scalar`](crate::simd::Simd::Scalar)).
     pub fn li_packet(
         &self,
         scene: &Scene,
         rays: &[Ray; LANES],
         samplers: &mut [Sampler; LANES],
         active: u32,
-        simd: Simd,
     ) -> [Rgb; LANES] {
         let mut out = [Rgb::ZERO; LANES];
         if let Integrator::Phong { shadows } = *self {
             for_bits(active, |i| out[i] = phong::li(scene, rays[i], shadows));
             return out;
         }
-        let hits = scene.intersect_t_packet(rays, active, simd);
-        let mut queue = ShadowQueue::new(scene, simd);
+        let hits = scene.intersect_t_packet(rays, active, scene.simd());
+        let mut queue = ShadowQueue::new(scene);
         let mut unlit = [Rgb::ZERO; LANES];
         for_bits(active, |i| {
             let (ray, sampler) = (rays[i], &mut samplers[i]);
