@@ -263,18 +263,6 @@ impl F16 {
         self.mask(o, |a, b| a > b)
     }
 
-    /// Lanes that are ≥ `o`'s.
-    #[inline(always)]
-    pub fn ge(self, o: F16) -> M16 {
-        self.mask(o, |a, b| a >= b)
-    }
-
-    /// Lanes not equal to `o`'s (NaN lanes included).
-    #[inline(always)]
-    pub fn ne(self, o: F16) -> M16 {
-        self.mask(o, |a, b| a != b)
-    }
-
     /// Lanes of `a` where `mask` is set, else of `self`.
     #[inline(always)]
     pub fn blend(self, mask: M16, a: F16) -> F16 {
@@ -368,7 +356,6 @@ mod tests {
             assert_eq!(a.min(b).0[i], x.min(y));
             assert_eq!(a.max(b).0[i], x.max(y));
             assert_eq!(a.lt(b).bits() >> i & 1 != 0, x < y);
-            assert_eq!(a.ge(b).bits() >> i & 1 != 0, x >= y);
         }
         assert_eq!(a.min_of(M16::from_bits(0b1010_0000_0000)), 4.0);
         assert_eq!(a.min_of(M16::NONE), f32::INFINITY);
