@@ -155,8 +155,12 @@ impl Camera {
     /// fractions of the full film.
     #[inline]
     fn film_fraction(&self, film: Vec2) -> Vec2 {
-        let off = Vec2::new(self.crop_offset.0 as f32, self.crop_offset.1 as f32);
-        (film + off) / self.film_size() + self.principal_point
+        (film + self.crop_offset_px()) / self.film_size() + self.principal_point
+    }
+
+    /// The crop window's offset in the full film, in pixels, as floats.
+    fn crop_offset_px(&self) -> Vec2 {
+        Vec2::new(self.crop_offset.0 as f32, self.crop_offset.1 as f32)
     }
 
     /// The full film's size in pixels, as floats.
@@ -217,7 +221,7 @@ impl Camera {
     fn perspective_rays(&self, film: &[Vec2; LANES]) -> [Ray; LANES] {
         let lanes = |f: &dyn Fn(usize) -> f32| F16(std::array::from_fn(f));
         let s = F16::splat;
-        let (off, size) = (Vec2::new(self.crop_offset.0 as f32, self.crop_offset.1 as f32), self.film_size());
+        let (off, size) = (self.crop_offset_px(), self.film_size());
         let fx = (lanes(&|i| film[i].x) + s(off.x)) / s(size.x) + s(self.principal_point.x);
         let fy = (lanes(&|i| film[i].y) + s(off.y)) / s(size.y) + s(self.principal_point.y);
         let (nx, ny) = (s(1.0) - s(2.0) * fx, s(1.0) - s(2.0) * fy);
