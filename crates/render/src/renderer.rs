@@ -19,6 +19,9 @@ use std::sync::Arc;
 pub struct RenderOptions {
     /// Samples per pixel.
     pub spp: u32,
+    /// Index of the first sample of each pixel's stream: the render takes samples
+    /// `first_sample .. first_sample + spp`, so renders of disjoint ranges are independent.
+    pub first_sample: u32,
     /// Seed of every random stream.
     pub seed: u64,
     /// Worker threads; 0 uses every core.
@@ -31,7 +34,7 @@ pub struct RenderOptions {
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { spp: 16, seed: 0, threads: 0, integrator: Integrator::default(), cancel: None }
+        RenderOptions { spp: 16, first_sample: 0, seed: 0, threads: 0, integrator: Integrator::default(), cancel: None }
     }
 }
 
@@ -44,13 +47,15 @@ pub struct Progress {
     pub total: u64,
 }
 
-/// The passes' sample counts: 1, 1, 2, 4, … (doubling, at most 64), summing to `spp`.
-/// Depends on `spp` only, so the image does not depend on how the work is scheduled.
-fn passes(spp: u32) -> Vec<(u32, u32)> {
+/// The passes' sample ranges from `first`: 1, 1, 2, 4, … samples (doubling, at most 64),
+/// `spp` in all. Depends on its arguments only, so the image does not depend on how the work
+/// is scheduled.
+fn passes(first: u32, spp: u32) -> Vec<(u32, u32)> {
     let mut out = Vec::new();
-    let (mut start, mut size) = (0u32, 1u32);
-    while start < spp {
-        let n = size.min(spp - start);
+    let (mut start, mut size) = (first, 1u32);
+    let end = first.saturating_add(spp);
+    while start < end {
+        let n = size.min(end - start);
         out.push((start, start + n));
         start += n;
         if out.len() > 1 {
@@ -159,7 +164,7 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
         let opts = self.opts;
         let mut sums = vec![[0.0f64; 3]; w * h];
         let mut row_spp = vec![0u32; h];
-        for (s0, s1) in passes(opts.spp) {
+        for (s0, s1) in passes(opts.first_sample, opts.spp) {
             sums.par_chunks_mut(w).zip(row_spp.par_iter_mut()).enumerate().for_each(|(y, (row, count))| {
                 if self.cancelled() {
                     return;
@@ -169,7 +174,7 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
                         *a += c as f64;
                     }
                 });
-                *count = s1;
+                *count = s1 - opts.first_sample;
                 self.row_done(w, s1 - s0);
             });
             if self.cancelled() {
@@ -197,7 +202,7 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
         let mut film = SplatFilm::new(&scene.camera.filter, w, h);
         let band = film.band_rows();
         let mut bufs: Vec<RowSplats> = (0..band).map(|_| film.row_splats()).collect();
-        'passes: for (s0, s1) in passes(opts.spp) {
+        'passes: for (s0, s1) in passes(opts.first_sample, opts.spp) {
             for b0 in (0..h).step_by(band) {
                 let rows = &mut bufs[..band.min(h - b0)];
                 rows.par_iter_mut().enumerate().for_each(|(k, buf)| {
@@ -225,15 +230,16 @@ mod tests {
 
     #[test]
     fn passes_cover_every_sample_once() {
-        for spp in [0, 1, 2, 3, 64, 100, 1000] {
-            let p = passes(spp);
-            let mut next = 0;
-            for (a, b) in p {
-                assert_eq!(a, next);
-                assert!(b > a && b - a <= 64);
-                next = b;
+        for first in [0, 5, u32::MAX - 3] {
+            for spp in [0, 1, 2, 3, 64, 100, 1000] {
+                let mut next = first;
+                for (a, b) in passes(first, spp) {
+                    assert_eq!(a, next);
+                    assert!(b > a && b - a <= 64);
+                    next = b;
+                }
+                assert_eq!(next, first.saturating_add(spp));
             }
-            assert_eq!(next, spp);
         }
     }
 }

@@ -27,7 +27,7 @@ fn envmap_background_matches_mitsuba() {
     let spp = 16;
     let img = render(
         &b.build().unwrap(),
-        &RenderOptions { spp, seed: 1, threads: 0, integrator: Integrator::DIRECT, cancel: None },
+        &RenderOptions { spp, seed: 1, threads: 0, integrator: Integrator::DIRECT, ..Default::default() },
         |_| {},
     );
     // Compare the pixels whose whole footprint misses the unit ball of the reference.

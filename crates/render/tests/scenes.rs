@@ -21,7 +21,7 @@ fn camera(origin: Vec3, target: Vec3, fov: f32, w: u32, h: u32) -> Camera {
 }
 
 fn opts(spp: u32, seed: u64, integrator: Integrator) -> RenderOptions {
-    RenderOptions { spp, seed, threads: 2, integrator, cancel: None }
+    RenderOptions { spp, seed, threads: 2, integrator, ..Default::default() }
 }
 
 /// Mean of the green channel over the pixels, and the standard error of that mean from the

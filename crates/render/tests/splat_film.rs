@@ -15,7 +15,7 @@ use std::sync::Arc;
 const N: u32 = 16;
 
 fn opts(spp: u32, seed: u64, threads: usize) -> RenderOptions {
-    RenderOptions { spp, seed, threads, integrator: Integrator::DIRECT, cancel: None }
+    RenderOptions { spp, seed, threads, integrator: Integrator::DIRECT, ..Default::default() }
 }
 
 /// A diffuse sphere whose silhouette crosses the image, under a sky with a bright spot: sharp
@@ -133,4 +133,22 @@ fn a_cancelled_gaussian_render_is_still_a_whole_image() {
         }
     });
     assert!(img.pixels.iter().all(|p| (p.0[1] - 1.0).abs() < 1e-3), "{:?}", img.mean());
+}
+
+#[test]
+fn disjoint_sample_ranges_average_to_the_whole_render() {
+    // Box filter: each pixel is the mean of its samples, so samples 0..5 and 5..16 weighted by
+    // their counts give the 16-sample image up to the rounding of the two f32 means.
+    let mut s = scene();
+    s.camera.filter = Filter::Box;
+    let whole = render(&s, &opts(16, 3, 2), |_| {});
+    let head = render(&s, &opts(5, 3, 2), |_| {});
+    let tail = render(&s, &RenderOptions { first_sample: 5, ..opts(11, 3, 2) }, |_| {});
+    assert_ne!(head, tail, "the two ranges draw different samples");
+    for ((w, a), b) in whole.pixels.iter().zip(&head.pixels).zip(&tail.pixels) {
+        for c in 0..3 {
+            let mixed = (5.0 * a.0[c] as f64 + 11.0 * b.0[c] as f64) / 16.0;
+            assert!((mixed - w.0[c] as f64).abs() <= 1e-6 * (1.0 + w.0[c].abs() as f64), "{mixed} vs {}", w.0[c]);
+        }
+    }
 }

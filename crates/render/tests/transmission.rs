@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 fn opts(spp: u32, seed: u64, integrator: Integrator) -> RenderOptions {
-    RenderOptions { spp, seed, threads: 2, integrator, cancel: None }
+    RenderOptions { spp, seed, threads: 2, integrator, ..Default::default() }
 }
 
 fn model(name: &str, params: &[(&str, &str)]) -> Arc<dyn brdf::Brdf> {

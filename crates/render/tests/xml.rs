@@ -197,7 +197,7 @@ fn embedded_furnace_renders_white() {
     assert_eq!((s.width, s.height), (8, 8));
     let img = render(
         &s.scene,
-        &RenderOptions { spp: 16, seed: s.seed, threads: 2, integrator: s.integrator, cancel: None },
+        &RenderOptions { spp: 16, seed: s.seed, threads: 2, integrator: s.integrator, ..Default::default() },
         |_| {},
     );
     let v: Vec<f64> = img.pixels.iter().map(|p| p.0[1] as f64).collect();
@@ -567,7 +567,7 @@ fn spot_directional_disk_and_rotated_envmap() {
     assert!(matches!(s.scene.camera.filter, Filter::Gaussian(_)));
     let img = render(
         &s.scene,
-        &RenderOptions { spp: 64, seed: 1, threads: 1, integrator: s.integrator, cancel: None },
+        &RenderOptions { spp: 64, seed: 1, threads: 1, integrator: s.integrator, ..Default::default() },
         |_| {},
     );
     let expect = 0.5 / std::f32::consts::PI;

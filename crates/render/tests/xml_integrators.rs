@@ -27,7 +27,7 @@ fn scene(integrator: &str, cam_z: f32, body: &str) -> String {
 /// The red channel of every pixel, rendered at `spp` with seed `seed`.
 fn pixels(xml: &str, spp: u32, seed: u64) -> Vec<f64> {
     let s = load_scene_str(xml, Path::new("."), &[]).unwrap_or_else(|e| panic!("{e}"));
-    let opts = RenderOptions { spp, seed, threads: 0, integrator: s.integrator, cancel: None };
+    let opts = RenderOptions { spp, seed, threads: 0, integrator: s.integrator, ..Default::default() };
     let img = render(&s.scene, &opts, |_| {});
     img.pixels.iter().map(|p| p.0[0] as f64).collect()
 }

@@ -109,6 +109,62 @@ impl TriangleMesh {
         self.normals = Some(acc.into_iter().map(|n| n.try_normalize().unwrap_or(Vec3::X)).collect());
     }
 
+    /// Smooth normals with a crease angle: a corner's normal averages (weighted by corner
+    /// angle) the normals of the faces around its vertex that turn at most `max_angle`
+    /// radians from its own face, so edges sharper than that stay sharp. A vertex whose
+    /// corners get different normals is split (its uv copied), the triangles keep their order.
+    pub fn compute_smooth_normals(&mut self, max_angle: f32) {
+        let cos_max = max_angle.clamp(0.0, std::f32::consts::PI).cos();
+        let faces: Vec<(Option<Vec3>, [f32; 3])> = self
+            .indices
+            .iter()
+            .map(|tri| {
+                let p = tri.map(|i| self.positions[i as usize]);
+                let n = (p[1] - p[0]).cross(p[2] - p[0]).try_normalize();
+                let angle = std::array::from_fn(|k| {
+                    let (a, b) =
+                        ((p[(k + 1) % 3] - p[k]).normalize_or_zero(), (p[(k + 2) % 3] - p[k]).normalize_or_zero());
+                    unit_angle(a, b)
+                });
+                (n, angle)
+            })
+            .collect();
+        // The faces around each vertex, as (face, corner).
+        let mut around: Vec<Vec<(u32, u8)>> = vec![Vec::new(); self.positions.len()];
+        for (f, tri) in self.indices.iter().enumerate() {
+            for (k, &v) in tri.iter().enumerate() {
+                around[v as usize].push((f as u32, k as u8));
+            }
+        }
+        let (mut positions, mut uvs, mut normals) = (Vec::new(), self.uvs.as_ref().map(|_| Vec::new()), Vec::new());
+        let mut split = std::collections::HashMap::new();
+        let mut indices = self.indices.clone();
+        for (f, tri) in self.indices.iter().enumerate() {
+            for (k, &v) in tri.iter().enumerate() {
+                let own = faces[f].0;
+                let mut sum = Vec3::ZERO;
+                for &(g, c) in &around[v as usize] {
+                    if let (Some(n), Some(m)) = (faces[g as usize].0, own) {
+                        if n.dot(m) >= cos_max {
+                            sum += n * faces[g as usize].1[c as usize];
+                        }
+                    }
+                }
+                let n = sum.try_normalize().or(own).unwrap_or(Vec3::X);
+                let key = (v, n.to_array().map(f32::to_bits));
+                indices[f][k] = *split.entry(key).or_insert_with(|| {
+                    positions.push(self.positions[v as usize]);
+                    if let (Some(out), Some(src)) = (&mut uvs, &self.uvs) {
+                        out.push(src[v as usize]);
+                    }
+                    normals.push(n);
+                    (positions.len() - 1) as u32
+                });
+            }
+        }
+        (self.positions, self.uvs, self.normals, self.indices) = (positions, uvs, Some(normals), indices);
+    }
+
     /// The number of triangles.
     pub fn len(&self) -> usize {
         self.indices.len()
@@ -220,6 +276,45 @@ pub fn intersect_triangle(o: Vec3, d: Vec3, t_max: f32, p0: Vec3, e1: Vec3, e2: 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The unit cube [−1, 1]³ as 12 outward triangles on 8 shared vertices.
+    fn cube() -> TriangleMesh {
+        let p: Vec<Vec3> = (0..8)
+            .map(|i| {
+                Vec3::new(
+                    if i & 1 == 0 { -1.0 } else { 1.0 },
+                    if i & 2 == 0 { -1.0 } else { 1.0 },
+                    if i & 4 == 0 { -1.0 } else { 1.0 },
+                )
+            })
+            .collect();
+        let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+        let tris = quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
+        TriangleMesh::new(p, None, tris).unwrap()
+    }
+
+    #[test]
+    fn smooth_normals_keep_edges_sharper_than_the_crease_angle() {
+        let mut sharp = cube();
+        sharp.compute_smooth_normals(60f32.to_radians());
+        // Every corner keeps its face's normal: 6 faces × 4 corners.
+        assert_eq!((sharp.positions.len(), sharp.len()), (24, 12));
+        for f in 0..sharp.len() {
+            let [a, b, c] = sharp.triangle(f);
+            let face = (b - a).cross(c - a).normalize();
+            for &i in &sharp.indices[f] {
+                assert!((sharp.normals.as_ref().unwrap()[i as usize] - face).length() < 1e-6);
+            }
+        }
+        // Past 90°: one normal per vertex, along the diagonal.
+        let mut round = cube();
+        round.compute_smooth_normals(100f32.to_radians());
+        assert_eq!(round.positions.len(), 8);
+        for (p, n) in round.positions.iter().zip(round.normals.as_ref().unwrap()) {
+            assert!((*n - p.normalize()).length() < 1e-5, "{p} {n}");
+        }
+        assert!((round.area() - 24.0).abs() < 1e-4);
+    }
 
     #[test]
     fn hit_and_miss() {

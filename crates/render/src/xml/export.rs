@@ -189,7 +189,8 @@ fn element(plugin: &str, props: &[(String, Value)], nested: &[String]) -> String
             Value::Rgb([r, g, b]) => ("rgb", format!("{r}, {g}, {b}")),
             Value::Choice(c) => ("string", c.clone()),
             Value::Bool(b) => ("boolean", b.to_string()),
-            Value::Path(_) | Value::Model(_) => unreachable!("only wrappers hold models, and no written model a path"),
+            Value::Path(p) => ("string", p.clone()),
+            Value::Model(_) => unreachable!("only wrappers hold models, and they are written as nested elements"),
         };
         s += &format!("    <{tag} name=\"{name}\" value=\"{text}\"/>\n");
     }
@@ -199,6 +200,59 @@ fn element(plugin: &str, props: &[(String, Value)], nested: &[String]) -> String
         }
     }
     s + "</bsdf>"
+}
+
+/// The `<bsdf>` element that gonio's loader reads as model `name` with `params`: Mitsuba's
+/// plugin where it has one ([`bsdf_xml`]), else `<bsdf type="{name}">` with the given
+/// parameters under gonio's own names (which Mitsuba 3 cannot read).
+pub fn gonio_bsdf_xml(name: &str, params: &Params) -> Result<String, String> {
+    bsdf_xml(name, params).or_else(|why| {
+        let spec = brdf::find(name).map_err(|e| e.to_string())?;
+        spec.build_from(params).map_err(|e| format!("{name}: {e}"))?;
+        let given: Vec<(String, Value)> = params.given().map(|(n, v)| (n.to_string(), v.clone())).collect();
+        if given.iter().any(|(_, v)| matches!(v, Value::Model(_))) {
+            return Err(why);
+        }
+        Ok(element(name, &given, &[]))
+    })
+}
+
+/// `text` (a scene file) with its `<bsdf id="{id}">` element replaced by `bsdf` (an element
+/// as [`gonio_bsdf_xml`] writes it), which takes that id; everything else is left byte for byte.
+/// Without `id`, the one `<bsdf>` with an id that a shape references, if there is one only.
+pub fn replace_bsdf(text: &str, id: Option<&str>, bsdf: &str) -> Result<String, String> {
+    let doc = roxmltree::Document::parse(text).map_err(|e| format!("not a valid XML file: {e}"))?;
+    let with_id: Vec<_> = doc.descendants().filter(|n| n.has_tag_name("bsdf") && n.attribute("id").is_some()).collect();
+    let ids = || with_id.iter().filter_map(|n| n.attribute("id")).collect::<Vec<_>>().join(", ");
+    let node = match id {
+        Some(id) => with_id
+            .iter()
+            .find(|n| n.attribute("id") == Some(id))
+            .ok_or_else(|| format!("no <bsdf id=\"{id}\"> in this file (its BSDFs with an id: {})", ids()))?,
+        None => {
+            let referenced: Vec<_> = with_id
+                .iter()
+                .filter(|n| {
+                    let id = n.attribute("id");
+                    doc.descendants().any(|r| {
+                        r.has_tag_name("ref")
+                            && r.attribute("id") == id
+                            && r.parent().is_some_and(|p| p.has_tag_name("shape"))
+                    })
+                })
+                .collect();
+            match referenced[..] {
+                [one] => one,
+                _ => return Err(format!("say which BSDF the models replace (its BSDFs with an id: {})", ids())),
+            }
+        }
+    };
+    let id = node.attribute("id").unwrap_or_default();
+    let Some(rest) = bsdf.strip_prefix("<bsdf") else {
+        return Err(format!("internal error: '{bsdf}' is not a <bsdf> element"));
+    };
+    let range = node.range();
+    Ok(format!("{}<bsdf id=\"{id}\"{rest}{}", &text[..range.start], &text[range.end..]))
 }
 
 #[cfg(test)]
@@ -397,5 +451,43 @@ mod tests {
             let e = bsdf_xml(name, &p(name, set)).unwrap_err();
             assert!(e.starts_with(name) && e.contains(words), "{name} {set:?}: {e}");
         }
+    }
+
+    #[test]
+    fn replace_bsdf_swaps_one_element_and_keeps_the_rest() {
+        let text = r#"<scene version="3.0.0"><bsdf type="diffuse" id="a"/><bsdf type="plastic" id="b"><float name="int_ior" value="1.9"/></bsdf>
+<shape type="sphere"><ref name="bsdf" id="b"/></shape></scene>"#;
+        let new = r#"<bsdf type="phong"><float name="ke" value="5"/></bsdf>"#;
+        let out = super::replace_bsdf(text, Some("b"), new).unwrap();
+        assert_eq!(
+            out,
+            text.replace(
+                r#"<bsdf type="plastic" id="b"><float name="int_ior" value="1.9"/></bsdf>"#,
+                r#"<bsdf id="b" type="phong"><float name="ke" value="5"/></bsdf>"#
+            )
+        );
+        assert_eq!(super::replace_bsdf(text, None, new).unwrap(), out, "b is the one a shape references");
+        let e = super::replace_bsdf(text, Some("c"), new).unwrap_err();
+        assert!(e.contains("no <bsdf id=\"c\">") && e.contains("a, b"), "{e}");
+        let two = text.replace("</scene>", r#"<shape type="sphere"><ref id="a"/></shape></scene>"#);
+        assert!(super::replace_bsdf(&two, None, new).unwrap_err().contains("say which"));
+        assert!(super::replace_bsdf("<scene", None, new).is_err());
+    }
+
+    #[test]
+    fn gonios_own_models_are_written_under_their_own_names_and_read_back() {
+        for (name, given) in
+            [("phong", &[("ke", "7"), ("diffuse", "0.5,0.1,0.1")][..]), ("ward", &[("alpha_u", "0.05")][..])]
+        {
+            let spec = brdf::find(name).unwrap();
+            let params = Params::resolve(name, &(spec.params)(), given).unwrap();
+            let xml = super::gonio_bsdf_xml(name, &params).unwrap();
+            assert!(xml.starts_with(&format!("<bsdf type=\"{name}\">")), "{xml}");
+            same_as(&xml, &*spec.build_with(given).unwrap(), name);
+        }
+        // Mitsuba's plugin where there is one.
+        let spec = brdf::find("plastic").unwrap();
+        let params = Params::resolve("plastic", &(spec.params)(), &[]).unwrap();
+        assert_eq!(super::gonio_bsdf_xml("plastic", &params), super::bsdf_xml("plastic", &params));
     }
 }
