@@ -1,9 +1,10 @@
 //! The built-in demo scene, embedded in the binary so that `gonio render` needs no files:
 //! the Suzanne monkey behind a row of spheres in the lecture's models (Lambert, Phong,
 //! Blinn-Phong, Ward, Cook-Torrance, GGX conductor) on a grey floor, lit by a real light
-//! probe (Poly Haven's `studio_small_03`, CC0, downsampled to 512×256).
+//! probe seen behind them (Poly Haven's `kiara_1_dawn`, CC0, downsampled to 512×256).
 //!
-//! Also the one-object scenes `gonio compare` renders side by side.
+//! Also the one-object scenes that `gonio compare --backdrop none` and the explorer's lit view
+//! render, and the built-in probes.
 
 use brdf::Brdf;
 use glam::{Mat4, Vec3};
@@ -21,8 +22,10 @@ use std::sync::Arc;
 
 /// The Blender monkey (968 triangles, OBJ text).
 pub const SUZANNE_OBJ: &[u8] = include_bytes!("../assets/suzanne.obj");
-/// The light probe (equirectangular Radiance RGBE, 512×256).
+/// The studio light probe (equirectangular Radiance RGBE, 512×256): soft boxes in a dark room.
 pub const PROBE_HDR: &[u8] = include_bytes!("../assets/studio_small_03.hdr");
+/// The dawn light probe (Poly Haven's `kiara_1_dawn`, CC0, 512×256): a bright sky over hills.
+const DAWN_HDR: &[u8] = include_bytes!("../assets/kiara_1_dawn.hdr");
 
 /// The spheres of the demo, left to right: model name and parameters.
 pub const DEMO_MODELS: &[(&str, &[(&str, &str)])] = &[
@@ -34,9 +37,19 @@ pub const DEMO_MODELS: &[(&str, &[(&str, &str)])] = &[
     ("ggx", &[("alpha", "0.15")]),
 ];
 
-/// The embedded probe as an image.
+/// The embedded studio probe as an image.
 pub fn probe_image() -> Result<Image> {
-    render::io::hdr::parse_hdr(PROBE_HDR).map_err(|m| Error::Invalid(format!("embedded probe: {m}")))
+    builtin_probe("studio")
+}
+
+/// A built-in probe by name: `studio` or `dawn`.
+pub fn builtin_probe(name: &str) -> Result<Image> {
+    let bytes = match name {
+        "studio" => PROBE_HDR,
+        "dawn" => DAWN_HDR,
+        _ => return Err(Error::Invalid(format!("no built-in probe '{name}'; they are studio and dawn"))),
+    };
+    render::io::hdr::parse_hdr(bytes).map_err(|m| Error::Invalid(format!("embedded probe {name}: {m}")))
 }
 
 /// The scale that brings a probe's upward irradiance H to π (so a white floor reads ≈ 1).
@@ -55,10 +68,6 @@ pub fn suzanne() -> Result<TriangleMesh> {
     Ok(m)
 }
 
-fn model(name: &str, params: &[(&str, &str)]) -> Result<Arc<dyn Brdf>> {
-    brdf::build(name, params).map(Arc::from).map_err(|e| Error::Invalid(e.to_string()))
-}
-
 fn env_light(image: &Image) -> Result<Light> {
     Ok(Light::EnvMap(Box::new(EnvMap::new(image, probe_scale(image)?)?)))
 }
@@ -66,8 +75,9 @@ fn env_light(image: &Image) -> Result<Light> {
 /// The demo scene; `phong_lights` swaps the probe for what the Phong model knows: two point
 /// lights (key and fill) and a dim constant ambient.
 pub fn demo_scene_lit(width: u32, height: u32, phong_lights: bool) -> Result<Scene> {
-    let eye = Vec3::new(0.0, 2.4, 8.6);
-    let to_world = look_at(eye, Vec3::new(0.0, 0.75, 0.0), Vec3::Y).expect("the view is not degenerate");
+    // Low and nearly level, so that the probe's horizon and sky show above the floor.
+    let eye = Vec3::new(0.0, 1.5, 8.6);
+    let to_world = look_at(eye, Vec3::new(0.0, 0.85, 0.0), Vec3::Y).expect("the view is not degenerate");
     let mut b = SceneBuilder::new(Camera::new(to_world, 50.0, FovAxis::X, width, height));
     // A 24 × 24 floor at y = 0 (local +Z turned to +Y).
     let floor = Mat4::from_rotation_x(-FRAC_PI_2) * Mat4::from_scale(Vec3::splat(12.0));
@@ -94,7 +104,7 @@ pub fn demo_scene_lit(width: u32, height: u32, phong_lights: bool) -> Result<Sce
         b.light(Light::Point(key)).light(Light::Point(fill));
         b.light(Light::Constant(ConstantEnv { radiance: Rgb::splat(0.12) }));
     } else {
-        b.light(env_light(&probe_image()?)?);
+        b.light(env_light(&builtin_probe("dawn")?)?);
     }
     b.build()
 }
@@ -170,11 +180,6 @@ pub fn object_scene(
         b.light(Light::Point(PointLight { position: dir * POINT_DISTANCE, intensity }));
     }
     b.build()
-}
-
-/// The model `name` with `params`, for [`object_scene`].
-pub fn build_model(name: &str, params: &[(&str, &str)]) -> Result<Arc<dyn Brdf>> {
-    model(name, params)
 }
 
 #[cfg(test)]

@@ -15,8 +15,11 @@ macro_rules! outln {
 
 mod cli;
 mod cmd;
+mod converge;
 mod demo_scene;
 mod explore;
+mod font;
+mod label;
 mod modelarg;
 mod output;
 mod plot;

@@ -439,30 +439,58 @@ fn compare_lights_the_object_with_a_point_light_and_a_scaled_probe() {
     let dir = scratch("compare-light");
     let render = |extra: &[&str], name: &str| {
         let out = dir.join(name);
-        let args = ["compare", "lambert", "--size", "32", "--spp", "4", "-o", out.to_str().unwrap()];
+        let args =
+            ["compare", "lambert", "--size", "64", "--spp", "4", "--backdrop", "none", "-o", out.to_str().unwrap()];
         let o = gonio(&[&args[..], extra].concat());
         assert!(o.status.success(), "{}", stderr(&o));
         render::Image::load(&out).unwrap()
     };
+    // Bands of the sphere above and below its middle, clear of the label at the top.
     let half = |img: &render::Image, top: bool| -> f64 {
-        let rows = if top { 0..16 } else { 16..32 };
-        rows.flat_map(|y| (0..32).map(move |x| (x, y))).map(|(x, y)| f64::from(img.pixels[y * 32 + x].0[1])).sum()
+        let rows = if top { 28..32 } else { 40..52 };
+        rows.flat_map(|y| (16..48).map(move |x| (x, y))).map(|(x, y)| f64::from(img.pixels[y * 64 + x].0[1])).sum()
     };
-    let lit = render(&["--env-scale", "0", "--light", "0,1,0.2"], "top.exr");
+    let lit = render(&["--mesh", "sphere", "--env-scale", "0", "--light", "0,1,0.2"], "top.exr");
     assert!(
         half(&lit, true) > 10.0 * half(&lit, false),
         "lit from above: {} vs {}",
         half(&lit, true),
         half(&lit, false)
     );
-    let dark = render(&["--env-scale", "0"], "dark.exr");
+    let dark = render(&["--mesh", "sphere", "--env-scale", "0"], "dark.exr");
     // The object's middle (the label is drawn along an edge).
     let centre: f64 =
-        (12..20).flat_map(|y| (12..20).map(move |x| y * 32 + x)).map(|i| f64::from(dark.pixels[i].0[1])).sum();
+        (28..36).flat_map(|y| (28..36).map(move |x| y * 64 + x)).map(|i| f64::from(dark.pixels[i].0[1])).sum();
     assert_eq!(centre, 0.0, "no probe and no point light: nothing lights the object");
     let probe = render(&["--mesh", "suzanne"], "suzanne.exr");
     assert!(probe.mean()[1] > 0.01, "{:?}", probe.mean());
     let o = gonio(&["compare", "lambert", "--light", "0,0,0", "-o", dir.join("x.png").to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn png_plots_are_the_same_with_no_fonts_to_find() {
+    // An empty home and font folders: a machine with no fonts installed. The PNG is the same
+    // bytes as on this one, text included (the font is the binary's own).
+    let dir = scratch("no-fonts");
+    let empty = dir.join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let (a, b) = (dir.join("a.png"), dir.join("b.png"));
+    let args = ["plot", "phong", "--kind", "polar", "--theta-i", "30"];
+    let o = gonio(&[&args[..], &["-o", a.to_str().unwrap()]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = Command::new(env!("CARGO_BIN_EXE_gonio"))
+        .args([&args[..], &["-o", b.to_str().unwrap()]].concat())
+        .env_clear()
+        .env("HOME", &empty)
+        .env("XDG_DATA_HOME", &empty)
+        .env("XDG_DATA_DIRS", &empty)
+        .env("FONTCONFIG_PATH", &empty)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -41,13 +41,57 @@ fn demo_render_has_the_requested_size_and_is_thread_independent() {
 }
 
 #[test]
-fn compare_writes_one_image_with_a_panel_per_model() {
+fn compare_lays_out_a_labelled_grid_of_models_by_sweep_values() {
     let d = temp_dir("compare");
-    let o = d.join("cmp.png");
-    let out =
-        gonio(&["compare", "lambert", "phong:ke=10", "ggx", "--size", "24", "--spp", "1", "-o", o.to_str().unwrap()]);
+    let o = d.join("grid.exr");
+    let side = 256u32;
+    let args =
+        ["compare", "phong", "blinn-phong", "--sweep", "ke=5,50,500", "--size", "256", "--spp", "1", "--noise", "0"];
+    let out = gonio(&[&args[..], &["-o", o.to_str().unwrap()]].concat());
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    assert_eq!(png_size(&std::fs::read(&o).unwrap()), (72, 24));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let order: Vec<_> = text.lines().filter_map(|l| l.split(':').next().filter(|_| l.contains("spp"))).collect();
+    assert_eq!(
+        order,
+        [
+            "phong (ke 5)",
+            "phong (ke 50)",
+            "phong (ke 500)",
+            "blinn-phong (ke 5)",
+            "blinn-phong (ke 50)",
+            "blinn-phong (ke 500)"
+        ],
+        "a row per model, a column per value:\n{text}"
+    );
+    let img = render::Image::load(&o).unwrap();
+    assert_eq!((img.width, img.height), (3 * side, 2 * side));
+    // Fully covered label pixels are white exactly (1.0 in the linear image at exposure 0),
+    // which no rendered pixel of this scene is: count them in each panel's top band and
+    // everywhere else.
+    let band = 48;
+    for row in 0..2 {
+        for col in 0..3 {
+            let (x0, y0) = (col * side, row * side);
+            let white = (y0..y0 + side)
+                .flat_map(|y| (x0..x0 + side).map(move |x| (x, y)))
+                .filter(|&(x, y)| img.get(x, y) == radiometry::Rgb::ONE)
+                .map(|(_, y)| y - y0)
+                .collect::<Vec<_>>();
+            assert!(white.len() >= 5, "panel {row},{col}: {} white label pixels", white.len());
+            assert!(white.iter().all(|&y| y < band), "panel {row},{col}: white below the label band: {white:?}");
+        }
+    }
+    // The sweep shows: ke 5 and ke 500 differ below the labels.
+    let below = |col: u32| -> f64 {
+        (band..side)
+            .flat_map(|y| (0..side).map(move |x| (x, y)))
+            .map(|(x, y)| img.get(col * side + x, y).0[0] as f64)
+            .sum()
+    };
+    assert_ne!(below(0), below(2));
+    let out = gonio(&["compare", "ward", "--sweep", "ke=5", "--size", "24", "-o", o.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no parameter 'ke'"));
     let out = gonio(&["compare", "nosuchmodel", "--size", "24", "-o", o.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));
     std::fs::remove_dir_all(&d).unwrap();

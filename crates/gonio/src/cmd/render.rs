@@ -1,13 +1,12 @@
 //! `gonio render`: render a scene (the built-in demo when none is given) to PNG or EXR, with a
 //! progress bar; Ctrl-C stops the render and saves the samples taken so far.
 
+use crate::converge::{self, Converged, Target};
+use crate::label;
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use render::{Image, Integrator, RenderOptions, Scene};
-use std::io::IsTerminal;
+use render::{Image, Integrator, RenderOptions};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, OnceLock};
 
 /// Which estimator renders the image.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -29,9 +28,17 @@ pub struct RenderArgs {
     /// Output image: .png (sRGB, with --exposure) or .exr (linear float RGB).
     #[arg(short, long, default_value = "gonio.png")]
     pub output: PathBuf,
-    /// Samples per pixel (default: the scene file's, 32 for the demo).
+    /// Samples per pixel, or with --noise the most to take (default: the scene file's; for
+    /// the demo, up to 256).
     #[arg(long)]
     pub spp: Option<u32>,
+    /// Render until the estimated noise of the PNG's values (0..1, at --exposure) is at most
+    /// this, or --spp is reached (default: off for a scene file, 0.01 for the demo; 0: off).
+    #[arg(long)]
+    pub noise: Option<f32>,
+    /// Text drawn in the image's top-left corner; a second line after a `|`.
+    #[arg(long)]
+    pub label: Option<String>,
     /// Seed of every random stream: the same seed gives the same image whatever --threads
     /// (default: the scene file's, 0 for the demo).
     #[arg(long)]
@@ -61,39 +68,26 @@ pub struct RenderArgs {
     pub simd: render::simd::Simd,
 }
 
-/// The process-wide cancel flag, set by Ctrl-C (the handler can be installed only once).
-pub fn cancel_flag() -> Arc<AtomicBool> {
-    static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
-    FLAG.get_or_init(|| {
-        let flag = Arc::new(AtomicBool::new(false));
-        let f = flag.clone();
-        // Without a handler (e.g. none can be installed) Ctrl-C simply ends the process.
-        let _ = ctrlc::set_handler(move || f.store(true, Ordering::Relaxed));
-        flag
-    })
-    .clone()
+/// The demo's sample budget and noise target (`--spp`, `--noise`).
+const DEMO_SPP: u32 = 256;
+const DEMO_NOISE: f32 = 0.015;
+
+/// `--noise` as a stopping rule: None for 0, an error unless finite and in [0, 1).
+pub fn noise_target(noise: Option<f32>) -> Result<Option<f32>> {
+    match noise {
+        Some(n) if !(0.0..1.0).contains(&n) => bail!("--noise must be in [0, 1) (0: off), not {n}"),
+        Some(n) if n > 0.0 => Ok(Some(n)),
+        _ => Ok(None),
+    }
 }
 
-/// Renders with a progress bar on stderr (hidden when stderr is not a terminal); returns the
-/// image and whether Ctrl-C cut it short.
-pub fn render_with_progress(scene: &Scene, opts: &RenderOptions, label: &str) -> (Image, bool) {
-    let cancel = cancel_flag();
-    let opts = RenderOptions { cancel: Some(cancel.clone()), ..opts.clone() };
-    let total = scene.camera.width as u64 * scene.camera.height as u64 * opts.spp as u64;
-    let bar = if std::io::stderr().is_terminal() {
-        indicatif::ProgressBar::new(total)
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {percent:>3}% {elapsed_precise} ETA {eta}")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
-            .progress_chars("=> "),
-    );
-    bar.set_message(label.to_string());
-    let img = render::render(scene, &opts, |p| bar.set_position(p.done));
-    bar.finish_and_clear();
-    (img, cancel.load(Ordering::Relaxed))
+/// `-D NAME=VALUE` arguments as pairs.
+pub fn parse_defines(defines: &[String]) -> Result<Vec<(String, String)>> {
+    defines
+        .iter()
+        .map(|d| d.split_once('=').map(|(k, v)| (k.to_string(), v.to_string())))
+        .collect::<Option<Vec<_>>>()
+        .context("-D takes NAME=VALUE")
 }
 
 /// Saves `img` by extension, atomically, refusing to overwrite any of `inputs`.
@@ -127,16 +121,10 @@ pub fn run(a: &RenderArgs) -> Result<()> {
             let phong = a.integrator == Some(IntegratorArg::Phong);
             let scene =
                 crate::demo_scene::demo_scene_lit(a.width, a.height, phong).context("building the demo scene")?;
-            (scene, crate::demo_scene::demo_integrator(), Vec::new(), 32, 0)
+            (scene, crate::demo_scene::demo_integrator(), Vec::new(), DEMO_SPP, 0)
         }
         Some(path) => {
-            let defines = a
-                .define
-                .iter()
-                .map(|d| d.split_once('=').map(|(k, v)| (k.to_string(), v.to_string())))
-                .collect::<Option<Vec<_>>>()
-                .context("-D takes NAME=VALUE")?;
-            let loaded = render::xml::load_scene(path, &defines)?;
+            let loaded = render::xml::load_scene(path, &parse_defines(&a.define)?)?;
             (loaded.scene, loaded.integrator, vec![path.clone()], loaded.spp, loaded.seed)
         }
     };
@@ -150,20 +138,30 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     if spp == 0 {
         bail!("--spp must be at least 1");
     }
-    let opts = RenderOptions { spp, seed: a.seed.unwrap_or(seed), threads: a.threads, integrator, cancel: None };
+    let noise = noise_target(a.noise.or(a.scene.is_none().then_some(DEMO_NOISE)))?;
+    let opts =
+        RenderOptions { spp, seed: a.seed.unwrap_or(seed), threads: a.threads, integrator, ..Default::default() };
     scene.set_simd(a.simd);
     let start = std::time::Instant::now();
-    let (img, cancelled) = render_with_progress(&scene, &opts, "rendering");
-    save_image(&img, &a.output, a.exposure, &inputs)?;
+    let target = Target { max_spp: spp, noise, exposure: a.exposure };
+    let Converged { mut image, spp: taken, noise, cancelled } = converge::render(&scene, &opts, target, "rendering");
+    if let Some(text) = &a.label {
+        let lines: Vec<String> = text.split('|').map(|l| l.trim().to_string()).collect();
+        let (w, h) = (image.width, image.height);
+        let size = label::size_for(h.min(w));
+        label::draw(&mut image, &lines, (size / 2.0) as u32, (size / 2.0) as u32, w, size, a.exposure)?;
+    }
+    save_image(&image, &a.output, a.exposure, &inputs)?;
     let secs = start.elapsed().as_secs_f64();
-    let (w, h) = (img.width, img.height);
+    let (w, h) = (image.width, image.height);
+    let noise = noise.map(|n| format!(", noise {n:.4}")).unwrap_or_default();
     if cancelled {
         outln!(
             "wrote {} ({w}x{h}, interrupted before {spp} spp: the samples taken so far, {secs:.1} s)",
             a.output.display()
         );
     } else {
-        outln!("wrote {} ({w}x{h}, {spp} spp, {secs:.1} s)", a.output.display());
+        outln!("wrote {} ({w}x{h}, {taken} spp{noise}, {secs:.1} s)", a.output.display());
     }
     Ok(())
 }

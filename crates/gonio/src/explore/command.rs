@@ -42,9 +42,11 @@ pub fn commands(r: &Resolved, q: &Query) -> Result<Value, ApiError> {
     let angles = format!("--theta-i {} --phi-i {}", s.theta_i, s.phi_i);
     let plot = |kind: &str, extra: &str| format!("gonio plot {m} --kind {kind}{extra} --channel {ch} -o {kind}.svg");
     let q_name = name_of(quantity);
-    let mut render = format!("gonio compare {}", sh(&r.arg.item()));
+    // The lit view: the object alone in front of the probe, the model as it is, a fixed spp.
+    let object = q.get("object").unwrap_or("sphere");
+    let mut render =
+        format!("gonio compare {} --mesh {} --backdrop none --base none --noise 0", sh(&r.arg.item()), sh(object));
     for (flag, key) in [
-        ("--mesh", "object"),
         ("--env", "probe"),
         ("--env-scale", "env"),
         ("--light", "light"),
@@ -53,7 +55,7 @@ pub fn commands(r: &Resolved, q: &Query) -> Result<Value, ApiError> {
         ("--spp", "spp"),
     ] {
         match (key, q.get(key)) {
-            ("object", Some("sphere")) | ("probe", Some("studio")) | (_, None) => {}
+            ("probe", Some("studio")) | (_, None) => {}
             (_, Some(v)) => render.push_str(&format!(" {flag} {}", sh(v))),
         }
     }

@@ -179,6 +179,7 @@ pub fn stream(job: Job, out: &mut dyn Write, running: &AtomicUsize, cancel: Arc<
         }
         let opts = RenderOptions {
             spp: 1,
+            first_sample: 0,
             seed: u64::from(pass),
             threads: 0,
             integrator: Integrator::default(),

@@ -1,5 +1,6 @@
 //! Turning a [`Figure`] into bytes: SVG with its raster image embedded as a PNG data URI, or
-//! a PNG rasterised by resvg with the raster image composited into its place.
+//! a PNG rasterised by resvg (text in the bundled font, `font.rs`) with the raster image
+//! composited into its place.
 
 use super::{Figure, Image, IMAGE_SLOT};
 use anyhow::{anyhow, Context, Result};
@@ -26,13 +27,7 @@ pub fn to_svg(fig: &Figure) -> Result<String> {
 
 /// The figure as PNG bytes, `width` pixels wide (default: the SVG's own width).
 pub fn to_png(fig: &Figure, width: Option<u32>) -> Result<Vec<u8>> {
-    let mut opt = usvg::Options::default();
-    opt.fontdb_mut().load_system_fonts();
-    if opt.fontdb.is_empty() {
-        eprintln!("gonio: warning: no system fonts found; the PNG will have no text (the SVG output has it)");
-    } else if opt.fontdb.faces().any(|f| f.families.iter().any(|(n, _)| n == "DejaVu Sans")) {
-        opt.fontdb_mut().set_sans_serif_family("DejaVu Sans");
-    }
+    let opt = crate::font::svg_options();
     let svg = fig.svg.replace(IMAGE_SLOT, "");
     let tree = usvg::Tree::from_data(svg.as_bytes(), &opt).context("internal error: the plot is not valid SVG")?;
     let size = tree.size();
@@ -83,5 +78,24 @@ mod tests {
         for (i, o) in cases {
             assert_eq!(base64(i.as_bytes()), o);
         }
+    }
+
+    #[test]
+    fn png_text_comes_from_the_bundled_font() {
+        // The plots' own font list, as svg.rs writes it; the build reads no system fonts (resvg
+        // without its system-fonts feature), so this is what a machine without fonts renders.
+        let text = |t: &str| {
+            let svg = format!(
+                r##"<svg xmlns="http://www.w3.org/2000/svg" width="120" height="30"><rect width="120" height="30" fill="white"/><text x="4" y="22" font-family="{}" font-size="18" fill="#222222">{t}</text></svg>"##,
+                crate::plot::svg::FONT
+            );
+            let png = to_png(&Figure { svg, image: None }, None).unwrap();
+            let pix = Pixmap::decode_png(&png).unwrap();
+            pix.pixels().iter().filter(|p| p.red() < 128).count()
+        };
+        let (some, none) = (text("θi albedo"), text(""));
+        assert_eq!(none, 0);
+        // Nine glyphs at 18 px: well over a hundred dark pixels.
+        assert!(some > 100, "{some} dark pixels");
     }
 }
