@@ -98,6 +98,40 @@ fn compare_lays_out_a_labelled_grid_of_models_by_sweep_values() {
 }
 
 #[test]
+fn compare_puts_the_models_in_place_of_a_bsdf_of_a_scene_file() {
+    let d = temp_dir("compare-scene");
+    let scene = d.join("ball.xml");
+    std::fs::write(
+        &scene,
+        r#"<scene version="3.0.0">
+    <sensor type="perspective"><float name="fov" value="40"/>
+        <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="64"/><integer name="height" value="48"/><rfilter type="box"/></film>
+    </sensor>
+    <emitter type="constant"><rgb name="radiance" value="1"/></emitter>
+    <bsdf type="diffuse" id="ball"><rgb name="reflectance" value="0.5"/></bsdf>
+    <shape type="sphere"><ref name="bsdf" id="ball"/></shape>
+</scene>"#,
+    )
+    .unwrap();
+    let o = d.join("cmp.exr");
+    let base = ["compare", "lambert:albedo=0.2", "lambert:albedo=0.8", "--spp", "4", "--noise", "0", "--scene"];
+    let out = gonio(&[&base[..], &[scene.to_str().unwrap(), "-o", o.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let img = render::Image::load(&o).unwrap();
+    assert_eq!((img.width, img.height), (128, 48), "two panels of the scene's own film");
+    // A white furnace: the sphere shows its albedo, whatever the lighting's noise (below the
+    // labels, which take the panels' top rows).
+    let (dim, bright) = (img.get(32, 40), img.get(96, 40));
+    assert!((dim.0[1] - 0.2).abs() < 1e-3 && (bright.0[1] - 0.8).abs() < 1e-3, "{dim:?} {bright:?}");
+    let out = gonio(&[&base[..], &[scene.to_str().unwrap(), "--bsdf", "cup", "-o", o.to_str().unwrap()]].concat());
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("no <bsdf id=\"cup\">") && err.contains("ball"), "{err}");
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
 fn envmap_converts_and_prints_irradiance() {
     let d = temp_dir("envmap");
     // A constant map: H = π L.

@@ -110,7 +110,7 @@ impl TriangleMesh {
     }
 
     /// Smooth normals with a crease angle: a corner's normal averages (weighted by corner
-    /// angle) the normals of the faces around its vertex that turn at most `max_angle`
+    /// angle) the normals of the faces around its position that turn at most `max_angle`
     /// radians from its own face, so edges sharper than that stay sharp. A vertex whose
     /// corners get different normals is split (its uv copied), the triangles keep their order.
     pub fn compute_smooth_normals(&mut self, max_angle: f32) {
@@ -129,11 +129,22 @@ impl TriangleMesh {
                 (n, angle)
             })
             .collect();
-        // The faces around each vertex, as (face, corner).
-        let mut around: Vec<Vec<(u32, u8)>> = vec![Vec::new(); self.positions.len()];
+        // The faces around each position, as (face, corner): by position, since a file that
+        // splits vertices at uv seams (or everywhere, as many OBJ exporters do) still means
+        // one surface there.
+        let mut at = std::collections::HashMap::new();
+        let place: Vec<usize> = self
+            .positions
+            .iter()
+            .map(|p| {
+                let n = at.len();
+                *at.entry(p.to_array().map(f32::to_bits)).or_insert(n)
+            })
+            .collect();
+        let mut around: Vec<Vec<(u32, u8)>> = vec![Vec::new(); at.len()];
         for (f, tri) in self.indices.iter().enumerate() {
             for (k, &v) in tri.iter().enumerate() {
-                around[v as usize].push((f as u32, k as u8));
+                around[place[v as usize]].push((f as u32, k as u8));
             }
         }
         let (mut positions, mut uvs, mut normals) = (Vec::new(), self.uvs.as_ref().map(|_| Vec::new()), Vec::new());
@@ -143,7 +154,7 @@ impl TriangleMesh {
             for (k, &v) in tri.iter().enumerate() {
                 let own = faces[f].0;
                 let mut sum = Vec3::ZERO;
-                for &(g, c) in &around[v as usize] {
+                for &(g, c) in &around[place[v as usize]] {
                     if let (Some(n), Some(m)) = (faces[g as usize].0, own) {
                         if n.dot(m) >= cos_max {
                             sum += n * faces[g as usize].1[c as usize];
@@ -163,6 +174,69 @@ impl TriangleMesh {
             }
         }
         (self.positions, self.uvs, self.normals, self.indices) = (positions, uvs, Some(normals), indices);
+    }
+
+    /// Phong tessellation (Boubekeur & Alexa 2008, "Phong Tessellation", SIGGRAPH Asia): each
+    /// triangle is split in four at its edge midpoints, and a midpoint m of an edge (i, j)
+    /// moves to (1 − α) m + α ½ (π_i(m) + π_j(m)), π_k projecting onto the tangent plane of
+    /// vertex k, with the paper's α = 3/4; its normal is the normalised mean of the two. The
+    /// silhouette and the shadow terminator of a coarse smooth-shaded mesh round off this way.
+    /// An edge whose ends have other normals in another triangle (a crease) is split at its
+    /// midpoint, so that the two sides still meet. Does nothing to a mesh without normals.
+    pub fn phong_tessellate(&mut self) {
+        const ALPHA: f32 = 0.75;
+        let Some(normals) = self.normals.take() else { return };
+        let key = |p: Vec3| p.to_array().map(f32::to_bits);
+        let edge_of = |a: u32, b: u32| {
+            let (ka, kb) = (key(self.positions[a as usize]), key(self.positions[b as usize]));
+            let na = normals[a as usize].to_array().map(f32::to_bits);
+            let nb = normals[b as usize].to_array().map(f32::to_bits);
+            if ka <= kb {
+                ((ka, kb), (na, nb))
+            } else {
+                ((kb, ka), (nb, na))
+            }
+        };
+        // The normals each geometric edge is seen with: one pair for a smooth edge.
+        let mut seen: std::collections::HashMap<_, Vec<_>> = std::collections::HashMap::new();
+        for tri in &self.indices {
+            for k in 0..3 {
+                let (e, n) = edge_of(tri[k], tri[(k + 1) % 3]);
+                let v = seen.entry(e).or_default();
+                if !v.contains(&n) {
+                    v.push(n);
+                }
+            }
+        }
+        let (mut positions, mut uvs, mut ns) = (self.positions.clone(), self.uvs.clone(), normals.clone());
+        let mut mid = std::collections::HashMap::new();
+        let mut midpoint = |a: u32, b: u32| -> u32 {
+            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let (pa, pb, na, nb) =
+                    (self.positions[a as usize], self.positions[b as usize], normals[a as usize], normals[b as usize]);
+                let m = 0.5 * (pa + pb);
+                let smooth = seen.get(&edge_of(a, b).0).is_some_and(|v| v.len() == 1);
+                let p = if smooth {
+                    let project = |q: Vec3, p: Vec3, n: Vec3| q - (q - p).dot(n) * n;
+                    (1.0 - ALPHA) * m + ALPHA * 0.5 * (project(m, pa, na) + project(m, pb, nb))
+                } else {
+                    m
+                };
+                positions.push(p);
+                ns.push((na + nb).try_normalize().unwrap_or(na));
+                if let Some(t) = &mut uvs {
+                    t.push(0.5 * (t[a as usize] + t[b as usize]));
+                }
+                (positions.len() - 1) as u32
+            })
+        };
+        let mut indices = Vec::with_capacity(4 * self.indices.len());
+        for &[a, b, c] in &self.indices {
+            let (ab, bc, ca) = (midpoint(a, b), midpoint(b, c), midpoint(c, a));
+            indices.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+        }
+        (self.positions, self.uvs, self.normals, self.indices) = (positions, uvs, Some(ns), indices);
+        self.update_areas();
     }
 
     /// The number of triangles.
@@ -314,6 +388,28 @@ mod tests {
             assert!((*n - p.normalize()).length() < 1e-5, "{p} {n}");
         }
         assert!((round.area() - 24.0).abs() < 1e-4);
+        // Tessellated, the smooth cube rounds towards its circumscribed sphere (radius √3): the
+        // midpoints of its face diagonals, at radius 1 when split straight, move out to 1.5 and
+        // its edges' from √2 to 1.77; the sharp cube keeps its faces flat.
+        let mut rounder = round.clone();
+        rounder.phong_tessellate();
+        assert_eq!(rounder.len(), 48);
+        let r = |m: &TriangleMesh| m.positions.iter().map(|p| p.length()).fold(f32::INFINITY, f32::min);
+        assert!((r(&rounder) - 1.5).abs() < 1e-5, "{}", r(&rounder));
+        let mut flat = sharp.clone();
+        flat.phong_tessellate();
+        assert_eq!(flat.len(), 48);
+        assert!(flat.positions.iter().all(|p| (p.abs().max_element() - 1.0).abs() < 1e-6), "creases split straight");
+        assert!((flat.area() - 24.0).abs() < 1e-3);
+        // The same cube with no vertex shared between triangles smooths the same way.
+        let c = cube();
+        let positions = c.indices.iter().flatten().map(|&i| c.positions[i as usize]).collect();
+        let indices = (0..12u32).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect();
+        let mut soup = TriangleMesh::new(positions, None, indices).unwrap();
+        soup.compute_smooth_normals(100f32.to_radians());
+        for (p, n) in soup.positions.iter().zip(soup.normals.as_ref().unwrap()) {
+            assert!((*n - p.normalize()).length() < 1e-5, "{p} {n}");
+        }
     }
 
     #[test]

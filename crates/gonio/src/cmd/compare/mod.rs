@@ -48,6 +48,10 @@ pub struct CompareArgs {
     /// turn less than this, sharp beyond (0: flat facets; a mesh with normals keeps them).
     #[arg(long, default_value_t = 60.0)]
     pub smooth: f32,
+    /// Phong-tessellation steps for a --mesh smooth-shaded by --smooth (each splits every
+    /// triangle in four, rounding its silhouette and shadow terminator; none past 100,000).
+    #[arg(long, default_value_t = 2)]
+    pub subdivide: u32,
     /// A Mitsuba 3 scene instead of the material-preview scene: the models replace its BSDF
     /// --bsdf (panels have the scene's own film size and lights).
     #[arg(long)]
@@ -68,7 +72,7 @@ pub struct CompareArgs {
     #[arg(long, default_value_t = 0.01)]
     pub noise: f32,
     /// Samples per pixel: the most each panel takes.
-    #[arg(long, default_value_t = 1024)]
+    #[arg(long, default_value_t = 512)]
     pub spp: u32,
     /// Lay the panels out in a grid (one row per model with --sweep) rather than one row.
     #[arg(long)]
@@ -96,6 +100,9 @@ pub struct CompareArgs {
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub exposure: f32,
 }
+
+/// Triangles past which --subdivide stops splitting.
+const SUBDIVIDE_UP_TO: usize = 100_000;
 
 /// What the object stands on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -128,11 +135,15 @@ fn object(a: &CompareArgs) -> Result<(Object, Vec<PathBuf>)> {
             inputs.push(p.clone());
             let mut m = render::io::read_mesh(p).with_context(|| format!("reading the mesh '{}'", p.display()))?;
             if m.normals.is_none() {
+                // At 0 every corner takes its own face's normal: flat facets.
+                m.compute_smooth_normals(a.smooth.to_radians());
                 if a.smooth > 0.0 {
-                    m.compute_smooth_normals(a.smooth.to_radians());
-                } else {
-                    // Flat facets: one normal per corner, its face's.
-                    m.compute_smooth_normals(0.0);
+                    for _ in 0..a.subdivide {
+                        if m.len() >= SUBDIVIDE_UP_TO {
+                            break;
+                        }
+                        m.phong_tessellate();
+                    }
                 }
             }
             Subject::Mesh(m)
