@@ -91,6 +91,7 @@ pub fn render(scene: &Scene, opts: &RenderOptions, target: Target, label: &str) 
     };
     let (mut a, mut b) = (Halves::new(scene), Halves::new(scene));
     let mut noise = f32::INFINITY;
+    let mut first_cut = None;
     while a.spp + b.spp < target.max_spp && noise > threshold && !stopped() {
         let total = a.spp + b.spp;
         let half = if total == 0 { FIRST_HALF } else { total / 2 };
@@ -98,6 +99,8 @@ pub fn render(scene: &Scene, opts: &RenderOptions, target: Target, label: &str) 
         let (na, nb) = if 2 * half <= left { (half, half) } else { (left.div_ceil(2), left / 2) };
         let img = run(total, na);
         if stopped() {
+            // Cut short in the first round: its whole passes are all there is.
+            first_cut = (total == 0).then_some(img);
             break;
         }
         a.add(&img, na);
@@ -113,7 +116,11 @@ pub fn render(scene: &Scene, opts: &RenderOptions, target: Target, label: &str) 
     }
     bar.finish_and_clear();
     let spp = a.spp + b.spp;
-    let image = if b.spp == 0 { a.mean() } else { a.merged(&b) };
+    let image = match first_cut {
+        Some(img) => img,
+        None if b.spp == 0 => a.mean(),
+        None => a.merged(&b),
+    };
     Converged { image, spp, noise: noise.is_finite().then_some(noise), cancelled: stopped() }
 }
 
