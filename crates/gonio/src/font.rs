@@ -16,18 +16,3 @@ pub fn svg_options() -> usvg::Options<'static> {
     db.set_sans_serif_family("DejaVu Sans");
     opt
 }
-
-/// `text` escaped for SVG character data and attribute values.
-pub fn escape(text: &str) -> String {
-    let mut o = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => o.push_str("&amp;"),
-            '<' => o.push_str("&lt;"),
-            '>' => o.push_str("&gt;"),
-            '"' => o.push_str("&quot;"),
-            c => o.push(c),
-        }
-    }
-    o
-}

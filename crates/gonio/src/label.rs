@@ -41,7 +41,7 @@ pub fn draw(img: &mut Image, lines: &[String], x: u32, y: u32, width: u32, size:
             r#"<text x="{:.2}" y="{baseline:.2}" font-family="DejaVu Sans" font-size="{s:.2}" fill="white" stroke="black" stroke-opacity="0.75" stroke-width="{:.2}" stroke-linejoin="round" paint-order="stroke">{}</text>"#,
             0.1 * size,
             0.2 * s,
-            crate::font::escape(line)
+            crate::plot::svg::esc(line)
         );
     }
     svg += "</svg>";
