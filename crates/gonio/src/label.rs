@@ -38,8 +38,9 @@ pub fn draw(img: &mut Image, lines: &[String], x: u32, y: u32, width: u32, size:
         let s = if i == 0 { size } else { 0.8 * size };
         baseline += if i == 0 { 0.95 * s } else { 1.25 * s };
         svg += &format!(
-            r#"<text x="{:.2}" y="{baseline:.2}" font-family="DejaVu Sans" font-size="{s:.2}" fill="white" stroke="black" stroke-opacity="0.75" stroke-width="{:.2}" stroke-linejoin="round" paint-order="stroke">{}</text>"#,
+            r#"<text x="{:.2}" y="{baseline:.2}" font-family="{}" font-size="{s:.2}" fill="white" stroke="black" stroke-opacity="0.75" stroke-width="{:.2}" stroke-linejoin="round" paint-order="stroke">{}</text>"#,
             0.1 * size,
+            crate::font::FAMILY,
             0.2 * s,
             crate::plot::svg::esc(line)
         );
