@@ -23,7 +23,8 @@ pub struct CompareArgs {
     #[arg(required = true, num_args = 1..)]
     pub models: Vec<String>,
     /// Light probe: an equirectangular .hdr or .exr, or a built-in one, `dawn` (Poly Haven's
-    /// kiara_1_dawn, bright sky) or `studio` (studio_small_03, soft boxes in a dark room).
+    /// kiara_1_dawn, bright sky) or `studio` (studio_small_03, soft boxes in a dark room);
+    /// not for --scene, which keeps its own lights.
     #[arg(long, default_value = "studio")]
     pub env: String,
     /// Scale on the probe (after the scale that brings its upward irradiance to π); 0 leaves it
@@ -36,8 +37,9 @@ pub struct CompareArgs {
     /// Irradiance of the point light at the object's centre, W/m².
     #[arg(long, default_value_t = 3.0)]
     pub light_irradiance: f32,
-    /// Show this object alone instead of the material-preview scene: an .obj, .ply or
-    /// .serialized mesh, `suzanne` (the built-in monkey) or `sphere`.
+    /// Stand this object on the checkerboard in place of the material-preview object (scaled
+    /// to its size, turned to the camera): an .obj, .ply or .serialized mesh (+Y up, facing
+    /// +Z), `suzanne` (the built-in monkey) or `sphere`.
     #[arg(long, conflicts_with = "scene")]
     pub mesh: Option<PathBuf>,
     /// What the object stands on: the material-preview scene's checkerboard, or none (the
