@@ -33,7 +33,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub spp: Option<u32>,
     /// Render until the estimated noise of the PNG's values (0..1, at --exposure) is at most
-    /// this, or --spp is reached (default: off for a scene file, 0.01 for the demo; 0: off).
+    /// this, or --spp is reached (default: off for a scene file, 0.015 for the demo; 0: off).
     #[arg(long)]
     pub noise: Option<f32>,
     /// Text drawn in the image's top-left corner; a second line after a `|`.
