@@ -151,6 +151,19 @@ pub fn probe_light(image: Option<&Image>, scale: f32) -> Result<EnvMap> {
 /// Distance of the point light from the object's centre (object radius 1).
 const POINT_DISTANCE: f32 = 6.0;
 
+/// The corners of a mesh's bounding box; an error for a mesh with no extent.
+pub fn mesh_bounds(m: &TriangleMesh) -> Result<(Vec3, Vec3)> {
+    let (lo, hi) = m
+        .positions
+        .iter()
+        .fold((Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    let size = (hi - lo).max_element();
+    if !(size > 0.0 && size.is_finite()) {
+        return Err(Error::Invalid("the mesh has no extent".into()));
+    }
+    Ok((lo, hi))
+}
+
 /// One object in model `brdf` under `light`, seen from +Z at `width` × `height`: a unit
 /// sphere, or `mesh` scaled and centred to fit one.
 pub fn object_scene(
@@ -166,16 +179,8 @@ pub fn object_scene(
         None => Geometry::Sphere(Sphere::new(Vec3::ZERO, 1.0)),
         Some(m) => {
             let mut m = m.clone();
-            let (lo, hi) = m
-                .positions
-                .iter()
-                .fold((Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)), |(lo, hi), &p| {
-                    (lo.min(p), hi.max(p))
-                });
+            let (lo, hi) = mesh_bounds(&m)?;
             let half = 0.5 * (hi - lo).max_element();
-            if !(half > 0.0 && half.is_finite()) {
-                return Err(Error::Invalid("the mesh has no extent".into()));
-            }
             m.transform(&(Mat4::from_scale(Vec3::splat(1.0 / half)) * Mat4::from_translation(-0.5 * (lo + hi))));
             Geometry::Mesh(m)
         }

@@ -95,18 +95,6 @@ pub enum Object {
     },
 }
 
-/// The corners of a mesh's bounding box; an error for a mesh with no extent.
-fn bounds(m: &TriangleMesh) -> Result<(Vec3, Vec3)> {
-    let (lo, hi) = m
-        .positions
-        .iter()
-        .fold((Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)), |(lo, hi), &p| (lo.min(p), hi.max(p)));
-    if !((hi - lo).max_element() > 0.0 && (hi - lo).is_finite()) {
-        bail!("the mesh has no extent");
-    }
-    Ok((lo, hi))
-}
-
 impl Object {
     /// The material-preview scene at `size` × `size` with `subject` on its checkerboard, lit
     /// by `probe` (an equirect image, its upward irradiance brought to π, times `scale`) and
@@ -133,7 +121,7 @@ impl Object {
             ),
             Subject::Mesh(mut m) => {
                 m.transform(&object_to_scene());
-                let (lo, hi) = bounds(&m)?;
+                let (lo, hi) = crate::demo_scene::mesh_bounds(&m)?;
                 let half = 0.5 * (hi - lo).max_element();
                 let lift = Vec3::new(-0.5 * (lo.x + hi.x), -0.5 * (lo.y + hi.y), -lo.z);
                 m.transform(&(Mat4::from_scale(Vec3::splat(OBJECT_HALF_WIDTH / half)) * Mat4::from_translation(lift)));
