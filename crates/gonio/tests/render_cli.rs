@@ -98,6 +98,49 @@ fn compare_lays_out_a_labelled_grid_of_models_by_sweep_values() {
 }
 
 #[test]
+fn compare_panels_stop_at_their_noise_threshold() {
+    // A panel rendered to --noise 0.03, against the mean of two independent renders of 8 times
+    // its samples each (other seeds): the display-value error it measures, less the reference's
+    // own (estimated from its two halves), is within the threshold and 4 standard errors.
+    let d = temp_dir("compare-noise");
+    let run = |extra: &[&str], name: &str| {
+        let o = d.join(name);
+        let args = ["compare", "lambert", "--size", "64", "-o", o.to_str().unwrap()];
+        let out = gonio(&[&args[..], extra].concat());
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        (render::Image::load(&o).unwrap(), String::from_utf8_lossy(&out.stdout).into_owned())
+    };
+    let threshold = 0.03;
+    let (img, text) = run(&["--noise", "0.03", "--spp", "4096"], "a.exr");
+    let line = text.lines().next().unwrap();
+    let spp: u32 = line.split(": ").nth(1).and_then(|r| r.split(' ').next()).and_then(|n| n.parse().ok()).unwrap();
+    assert!(spp < 4096, "stopped by its noise: {line}");
+    let n = (8 * spp).to_string();
+    let (ra, _) = run(&["--noise", "0", "--spp", &n, "--seed", "1"], "ra.exr");
+    let (rb, _) = run(&["--noise", "0", "--spp", &n, "--seed", "2"], "rb.exr");
+    let d8 = |c: f32| render::io::png::srgb_encode(c).clamp(0.0, 1.0) as f64;
+    let (mut e, mut half) = (Vec::new(), Vec::new());
+    for ((p, a), b) in img.pixels.iter().zip(&ra.pixels).zip(&rb.pixels) {
+        for c in 0..3 {
+            let (a, b) = (d8(a.0[c]), d8(b.0[c]));
+            if a != b {
+                e.push((d8(p.0[c]) - 0.5 * (a + b)).powi(2));
+                half.push((0.5 * (a - b)).powi(2));
+            }
+        }
+    }
+    let m = e.len() as f64;
+    let mean = e.iter().sum::<f64>() / m;
+    let reference = half.iter().sum::<f64>() / m;
+    let measured = (mean - reference).max(0.0).sqrt();
+    let sd = (e.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (m - 1.0)).sqrt();
+    let slack = 4.0 * 0.5 * sd / (mean * m.sqrt());
+    assert!(measured <= threshold * (1.0 + slack), "measured {measured:.4} at {spp} spp, slack {slack:.3}: {line}");
+    assert!(measured > 0.25 * threshold, "the stop is not far below its threshold: {measured:.4} at {spp} spp");
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
 fn compare_puts_the_models_in_place_of_a_bsdf_of_a_scene_file() {
     let d = temp_dir("compare-scene");
     let scene = d.join("ball.xml");
