@@ -2,6 +2,7 @@
 //! the BVH over every primitive. Built once with [`SceneBuilder`], then only read.
 
 mod few;
+mod light_choice;
 mod packet;
 mod walk;
 
@@ -160,10 +161,12 @@ impl SceneBuilder {
                 few::Few::new(refs.len(), sphere)
             });
         let environment = lights.iter().position(Light::is_environment);
+        let light_bounds = light_choice::bounds(&lights, &shapes);
         Ok(Scene {
             camera,
             shapes,
             lights,
+            light_bounds,
             light_of_shape,
             environment,
             bvh,
@@ -189,6 +192,8 @@ pub struct Scene {
     pub camera: Camera,
     shapes: Vec<Shape>,
     lights: Vec<Light>,
+    /// Per light, what its choice probability is estimated from.
+    light_bounds: Vec<light_choice::Bound>,
     light_of_shape: Vec<Option<usize>>,
     environment: Option<usize>,
     bvh: Bvh,
@@ -370,16 +375,18 @@ impl Scene {
     /// one map lookup serves both. None without an environment.
     #[inline]
     pub fn environment_eval(&self, d: Vec3, from: Option<&RefPoint>) -> Option<(Rgb, f32)> {
-        let (le, pdf) = match &self.lights[self.environment?] {
+        let env = self.environment?;
+        let (le, pdf) = match &self.lights[env] {
             Light::Constant(c) => (c.radiance, from.map_or(0.0, |r| c.pdf(r, d))),
             Light::EnvMap(e) if from.is_some() => e.eval_pdf(d),
             Light::EnvMap(e) => (e.eval(d), 0.0),
             _ => return None,
         };
-        Some((le, pdf * self.light_select_pdf()))
+        Some((le, from.map_or(0.0, |r| pdf * self.light_choice_pdf(env, r))))
     }
 
-    /// Probability of choosing any one light (uniform choice).
+    /// Probability of choosing any one light uniformly (with one light, or more than
+    /// [`light_choice::ADAPTIVE_MAX`]; see [`light_choice_pdf`](Self::light_choice_pdf)).
     #[inline]
     pub fn light_select_pdf(&self) -> f32 {
         1.0 / self.lights.len().max(1) as f32
@@ -398,8 +405,18 @@ impl Scene {
     /// hides the cache miss; it changes no result.
     #[inline]
     pub fn prefetch_light(&self, uc: f32, uc2: f32) {
-        if let Some(Light::EnvMap(e)) = self.lights.get(self.light_index(uc)) {
+        if let Some(Light::EnvMap(e)) = self.lights.get(self.likely_light(uc)) {
             e.prefetch_sample(uc2);
+        }
+    }
+
+    /// The light `sample_light(_, uc, …)` is likely to choose, known before the reference
+    /// point is: the uniform choice, or where the choice depends on the point, the environment.
+    #[inline]
+    fn likely_light(&self, uc: f32) -> usize {
+        match self.environment {
+            Some(i) if (2..=light_choice::ADAPTIVE_MAX).contains(&self.lights.len()) => i,
+            _ => self.light_index(uc),
         }
     }
 
@@ -407,17 +424,15 @@ impl Scene {
     /// `sample_light(_, uc, uc2, u)` reads next (the map cell's corners and texels).
     #[inline]
     pub fn prefetch_light_cell(&self, uc: f32, uc2: f32, u: Vec2) {
-        if let Some(Light::EnvMap(e)) = self.lights.get(self.light_index(uc)) {
+        if let Some(Light::EnvMap(e)) = self.lights.get(self.likely_light(uc)) {
             e.prefetch_sample_cell(uc2, u);
         }
     }
 
-    /// Chooses a light uniformly and samples it; the returned pdf includes the choice.
+    /// Chooses a light ([`light_choice`]) and samples it; the returned pdf includes the choice.
     pub fn sample_light(&self, r: &RefPoint, uc: f32, uc2: f32, u: Vec2) -> Option<LightSample> {
-        if self.lights.is_empty() {
-            return None;
-        }
-        let mut s = match &self.lights[self.light_index(uc)] {
+        let (light, choice) = self.choose_light(r, uc)?;
+        let mut s = match &self.lights[light] {
             Light::Point(l) => l.sample(r)?,
             Light::Spot(l) => l.sample(r)?,
             Light::Directional(l) => l.sample(r)?,
@@ -425,7 +440,7 @@ impl Scene {
             Light::Constant(c) => c.sample(r, u)?,
             Light::EnvMap(e) => e.sample(r.p, uc2, u)?,
         };
-        s.pdf *= self.light_select_pdf();
+        s.pdf *= choice;
         Some(s)
     }
 
@@ -439,7 +454,10 @@ impl Scene {
             (Light::Constant(c), _) => c.pdf(r, wi),
             (Light::EnvMap(e), _) => e.pdf(wi),
         };
-        pdf * self.light_select_pdf()
+        if pdf == 0.0 {
+            return 0.0;
+        }
+        pdf * self.light_choice_pdf(light, r)
     }
 }
 

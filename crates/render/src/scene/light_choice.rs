@@ -1,0 +1,296 @@
+//! Which light a vertex samples. With one light there is no choice; with up to
+//! [`ADAPTIVE_MAX`] lights each is chosen with probability proportional to an estimate of the
+//! irradiance it gives the reference point unoccluded (the idea of pbrt-v4's light importance,
+//! Pharr, Jakob & Humphreys 2023, §12.6), and with more, uniformly as Mitsuba 3 does:
+//!
+//! - a point, spot or directional light: exactly its irradiance, E = I·cos θ / r² (the light
+//!   sample itself), zero behind the surface;
+//! - an area light: Φ/π-like bound L_max·A·cos θ′ / max(d², r²) from the bounding sphere
+//!   (centre c, radius r, d = |c − p|) of the emitting shape, where θ′ is the smallest angle
+//!   between the normal and a direction into the sphere; zero only when the whole sphere lies
+//!   behind the surface;
+//! - an environment: π times its mean radiance over the sphere.
+//!
+//! Each estimate is positive wherever its light can add anything (for a reflecting surface,
+//! light from behind it adds nothing), so the choice changes the noise, never the mean. A
+//! surface that only reflects passes its normal; one that transmits passes none.
+
+use super::{Scene, Shape};
+use crate::light::{Light, RefPoint};
+use crate::shape::Geometry;
+use glam::Vec3;
+use std::f32::consts::PI;
+
+/// Up to this many lights, choices follow the irradiance estimates (each vertex computes one
+/// per light); more lights are chosen uniformly.
+pub const ADAPTIVE_MAX: usize = 8;
+
+/// What a light's estimate is computed from, fixed when the scene is built.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Bound {
+    /// A delta light: its light sample gives the irradiance exactly.
+    Delta,
+    /// An area light within the sphere (centre, radius²) emitting at most `power` = L_max·A.
+    Sphere { centre: Vec3, r2: f32, power: f32 },
+    /// An environment with this irradiance estimate (π × mean radiance).
+    Infinite(f32),
+}
+
+/// The bound of each light of `lights`, whose area lights lie on `shapes`.
+pub(super) fn bounds(lights: &[Light], shapes: &[Shape]) -> Vec<Bound> {
+    lights
+        .iter()
+        .map(|l| match l {
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => Bound::Delta,
+            Light::Area(a) => {
+                let g = &shapes[a.shape].geometry;
+                let (centre, r2) = bounding_sphere(g);
+                Bound::Sphere { centre, r2, power: a.radiance.range().1.max(0.0) * g.area() }
+            }
+            Light::Constant(c) => Bound::Infinite(PI * c.radiance.max_channel().max(0.0)),
+            Light::EnvMap(e) => Bound::Infinite(PI * e.mean_max_channel()),
+        })
+        .collect()
+}
+
+/// A sphere (centre, radius²) around the shape.
+fn bounding_sphere(g: &Geometry) -> (Vec3, f32) {
+    let b = (0..g.primitive_count()).fold(crate::shape::Aabb::EMPTY, |b, i| b.union(g.primitive_bounds(i)));
+    let c = b.center();
+    (c, (b.max - c).length_squared())
+}
+
+impl Scene {
+    /// The irradiance estimate of light `i` at `r` (see the module's list).
+    #[inline]
+    fn light_weight(&self, i: usize, r: &RefPoint) -> f32 {
+        let facing = |wi: Vec3| r.n.map_or(1.0, |n| wi.dot(n).max(0.0));
+        let w = match self.light_bounds[i] {
+            Bound::Delta => {
+                let s = match &self.lights[i] {
+                    Light::Point(l) => l.sample(r),
+                    Light::Spot(l) => l.sample(r),
+                    Light::Directional(l) => l.sample(r),
+                    _ => None,
+                };
+                s.map_or(0.0, |s| s.li.max_channel() * facing(s.wi))
+            }
+            Bound::Sphere { centre, r2, power } => {
+                let v = centre - r.p;
+                let d2 = v.length_squared();
+                let cos = match r.n {
+                    Some(n) if d2 > r2 => {
+                        // cos(max(0, θ − β)): θ from the normal to the centre, β the sphere's
+                        // half angle, sin β = r/d.
+                        let cos_t = (v.dot(n) / d2.sqrt()).clamp(-1.0, 1.0);
+                        let sin_b2 = r2 / d2;
+                        let cos_b = (1.0 - sin_b2).max(0.0).sqrt();
+                        if cos_t >= cos_b {
+                            1.0
+                        } else {
+                            let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+                            // A margin, so that rounding cannot turn away a light just in front.
+                            let c = cos_t * cos_b + sin_t * sin_b2.sqrt();
+                            if c < -1e-4 {
+                                0.0
+                            } else {
+                                c.max(1e-4)
+                            }
+                        }
+                    }
+                    _ => 1.0,
+                };
+                power * cos / d2.max(r2).max(f32::MIN_POSITIVE)
+            }
+            Bound::Infinite(e) => e,
+        };
+        if w.is_finite() {
+            w
+        } else {
+            f32::MAX
+        }
+    }
+
+    /// The light chosen from `r` with number `uc`, and the probability of that choice; None
+    /// when no light can light `r`.
+    #[inline]
+    pub(super) fn choose_light(&self, r: &RefPoint, uc: f32) -> Option<(usize, f32)> {
+        let n = self.lights.len();
+        if n <= 1 || n > ADAPTIVE_MAX {
+            return (n > 0).then(|| (self.light_index(uc), self.light_select_pdf()));
+        }
+        let mut w = [0.0f32; ADAPTIVE_MAX];
+        let mut sum = 0.0f32;
+        for (i, w) in w[..n].iter_mut().enumerate() {
+            *w = self.light_weight(i, r);
+            sum += *w;
+        }
+        if !(sum > 0.0 && sum.is_finite()) {
+            return None;
+        }
+        let target = uc * sum;
+        let mut acc = 0.0;
+        let mut chosen = None;
+        for (i, &wi) in w[..n].iter().enumerate() {
+            if wi > 0.0 {
+                chosen = Some(i);
+                acc += wi;
+                if target < acc {
+                    break;
+                }
+            }
+        }
+        chosen.map(|i| (i, w[i] / sum))
+    }
+
+    /// The probability that [`choose_light`](Self::choose_light) at `r` chooses light `i`.
+    #[inline]
+    pub fn light_choice_pdf(&self, i: usize, r: &RefPoint) -> f32 {
+        let n = self.lights.len();
+        if n <= 1 || n > ADAPTIVE_MAX {
+            return self.light_select_pdf();
+        }
+        let wi = self.light_weight(i, r);
+        if wi <= 0.0 {
+            return 0.0;
+        }
+        let sum: f32 = (0..n).map(|k| if k == i { wi } else { self.light_weight(k, r) }).sum();
+        wi / sum
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::{look_at, Camera, FovAxis};
+    use crate::light::{ConstantEnv, DirectionalLight, PointLight, SpotLight};
+    use crate::sampler::Sampler;
+    use crate::scene::SceneBuilder;
+    use crate::shape::{Rectangle, Sphere};
+    use crate::texture::Texture;
+    use glam::Mat4;
+    use radiometry::Rgb;
+
+    /// Six lights of every kind: an emitting rectangle and sphere, a point, a spot, a
+    /// directional light and a constant environment.
+    fn six_lights() -> Scene {
+        let cam = Camera::new(look_at(Vec3::Z * 10.0, Vec3::ZERO, Vec3::Y).unwrap(), 40.0, FovAxis::X, 8, 8);
+        let mut b = SceneBuilder::new(cam);
+        let emitter = |g: Geometry, l: f32| {
+            let mut s = Shape::new(g, brdf::build("lambert", &[]).unwrap());
+            s.emission = Some(Texture::Constant(Rgb::new(l, 0.5 * l, 0.25 * l)));
+            s
+        };
+        let m = Mat4::from_translation(Vec3::new(0.0, 2.0, 0.0))
+            * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2)
+            * Mat4::from_scale(Vec3::splat(0.5));
+        b.shape(emitter(Geometry::Rectangle(Rectangle::new(&m).unwrap()), 20.0));
+        b.shape(emitter(Geometry::Sphere(Sphere::new(Vec3::new(-2.0, 0.5, 1.0), 0.3)), 5.0));
+        b.light(Light::Point(PointLight { position: Vec3::new(1.5, 1.0, -1.0), intensity: Rgb::splat(3.0) }));
+        b.light(Light::Spot(SpotLight {
+            position: Vec3::new(0.0, 3.0, 2.0),
+            axis: Vec3::new(0.0, -1.0, -0.5).normalize(),
+            intensity: Rgb::splat(8.0),
+            cutoff: 0.5,
+            beam_width: 0.4,
+            texture: None,
+        }));
+        b.light(Light::Directional(DirectionalLight {
+            direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+            irradiance: Rgb::splat(0.7),
+        }));
+        b.light(Light::Constant(ConstantEnv { radiance: Rgb::splat(0.1) }));
+        b.build().unwrap()
+    }
+
+    /// Reference points around the lights (some inside the emitters' bounding spheres), half
+    /// with a normal.
+    fn points(n: usize) -> Vec<RefPoint> {
+        let mut s = Sampler::new(7, 0, 0);
+        (0..n)
+            .map(|k| {
+                let p = Vec3::new(s.next_1d() - 0.5, s.next_1d() - 0.5, s.next_1d() - 0.5) * 6.0;
+                let d = radiometry::warp::uniform_sphere(s.next_2d());
+                RefPoint { p, n: (k % 2 == 0).then_some(d) }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn choices_follow_their_probabilities() {
+        let scene = six_lights();
+        assert_eq!(scene.lights().len(), 6);
+        const K: usize = 4096;
+        for r in points(200) {
+            let pmf: Vec<f32> = (0..6).map(|i| scene.light_choice_pdf(i, &r)).collect();
+            let total: f32 = pmf.iter().sum();
+            assert!((total - 1.0).abs() < 1e-5, "{pmf:?} sums to {total}");
+            // Numbers evenly spread over [0, 1): each light is chosen in the share its
+            // probability gives, to within one number.
+            let mut count = [0usize; 6];
+            for k in 0..K {
+                let (i, p) = scene.choose_light(&r, (k as f32 + 0.5) / K as f32).unwrap();
+                assert_eq!(p, pmf[i]);
+                count[i] += 1;
+            }
+            for i in 0..6 {
+                let share = count[i] as f32 / K as f32;
+                assert!((share - pmf[i]).abs() <= 1.5 / K as f32, "light {i}: chosen {share}, pmf {}", pmf[i]);
+            }
+        }
+    }
+
+    #[test]
+    fn a_light_that_can_add_light_is_never_turned_away() {
+        let scene = six_lights();
+        let mut s = Sampler::new(11, 0, 0);
+        for r in points(2000) {
+            for (i, light) in scene.lights().iter().enumerate() {
+                // Some direction towards the light that the surface at `r` would use.
+                let seen = (0..64).any(|_| {
+                    let (uc, u) = (s.next_1d(), s.next_2d());
+                    let ls = match light {
+                        Light::Area(a) => a.sample(&scene.shapes[a.shape].geometry, &r, uc, u),
+                        Light::Point(l) => l.sample(&r),
+                        Light::Spot(l) => l.sample(&r),
+                        Light::Directional(l) => l.sample(&r),
+                        Light::Constant(c) => c.sample(&r, u),
+                        Light::EnvMap(e) => e.sample(r.p, uc, u),
+                    };
+                    ls.is_some_and(|ls| !ls.li.is_black() && r.n.is_none_or(|n| ls.wi.dot(n) > 0.0))
+                });
+                if seen {
+                    assert!(scene.light_choice_pdf(i, &r) > 0.0, "light {i} from {r:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_light_sample_has_the_density_the_light_reports() {
+        let scene = six_lights();
+        let mut s = Sampler::new(3, 0, 0);
+        let mut checked = 0;
+        for r in points(500) {
+            let Some(ls) = scene.sample_light(&r, s.next_1d(), s.next_1d(), s.next_2d()) else { continue };
+            if ls.delta {
+                continue;
+            }
+            let pdf = match ls.shape {
+                Some(shape) => {
+                    let (i, _) = scene.area_light(shape).unwrap();
+                    let n = match &scene.shapes[shape].geometry {
+                        Geometry::Rectangle(q) => q.n,
+                        Geometry::Sphere(sp) => (ls.p - sp.center).normalize(),
+                        _ => unreachable!(),
+                    };
+                    scene.light_pdf(i, &r, ls.wi, Some((ls.p, n)))
+                }
+                None => scene.environment_eval(ls.wi, Some(&r)).unwrap().1,
+            };
+            assert!((pdf - ls.pdf).abs() <= 1e-3 * ls.pdf, "{pdf} against {} from {r:?}", ls.pdf);
+            checked += 1;
+        }
+        assert!(checked > 100, "{checked}");
+    }
+}
