@@ -115,18 +115,6 @@ impl EnvMap {
         }
     }
 
-    /// The mean over the sphere of the texels' largest channel (rows weighted by sin θ).
-    pub fn mean_max_channel(&self) -> f32 {
-        let (mut sum, mut weight) = (0.0f64, 0.0f64);
-        for j in 0..self.height {
-            let sin = (std::f64::consts::PI * (j as f64 + 0.5) / self.height as f64).sin();
-            let row = &self.texels[j * (self.width + 1)..][..self.width];
-            sum += sin * row.iter().map(|t| t.max_channel().max(0.0) as f64).sum::<f64>();
-            weight += sin * self.width as f64;
-        }
-        (sum / weight) as f32
-    }
-
     /// Texel (column i, row j).
     #[inline]
     pub fn texel(&self, i: usize, j: usize) -> Rgb {

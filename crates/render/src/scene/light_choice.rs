@@ -1,25 +1,26 @@
-//! Which light a vertex samples. With one light there is no choice; with up to
-//! [`ADAPTIVE_MAX`] lights each is chosen with probability proportional to an estimate of the
-//! irradiance it gives the reference point unoccluded (the idea of pbrt-v4's light importance,
-//! Pharr, Jakob & Humphreys 2023, §12.6), and with more, uniformly as Mitsuba 3 does:
+//! Which light a vertex samples. With one light there is no choice, and with more than
+//! [`ADAPTIVE_MAX`] the choice is uniform, as in Mitsuba 3. Otherwise, as pbrt-v4's light sampler
+//! does (Pharr, Jakob & Humphreys 2023, §12.6), the environment, if any, takes half the choices,
+//! and the other lights share the rest in proportion to an estimate of the irradiance each
+//! gives the reference point unoccluded:
 //!
 //! - a point, spot or directional light: exactly its irradiance, E = I·cos θ / r² (the light
 //!   sample itself), zero behind the surface;
-//! - an area light: Φ/π-like bound L_max·A·cos θ′ / max(d², r²) from the bounding sphere
-//!   (centre c, radius r, d = |c − p|) of the emitting shape, where θ′ is the smallest angle
-//!   between the normal and a direction into the sphere; zero only when the whole sphere lies
-//!   behind the surface;
-//! - an environment: π times its mean radiance over the sphere.
+//! - an area light: L_max·A·cos θ′ / max(d², r²) from the bounding sphere (centre c, radius r,
+//!   d = |c − p|) of the emitting shape, where θ′ is the smallest angle between the normal and
+//!   a direction into the sphere; zero only when the whole sphere lies behind the surface.
 //!
 //! Each estimate is positive wherever its light can add anything (for a reflecting surface,
 //! light from behind it adds nothing), so the choice changes the noise, never the mean. A
-//! surface that only reflects passes its normal; one that transmits passes none.
+//! surface that only reflects passes its normal; one that transmits passes none. An
+//! environment's light is found by BSDF samples as much as by light samples, and no position
+//! bounds it, so it keeps a fixed share (giving it one by its mean irradiance made a floor
+//! under a point light and the sky noisier than the uniform choice).
 
 use super::{Scene, Shape};
 use crate::light::{Light, RefPoint};
 use crate::shape::Geometry;
 use glam::Vec3;
-use std::f32::consts::PI;
 
 /// Up to this many lights, choices follow the irradiance estimates (each vertex computes one
 /// per light); more lights are chosen uniformly.
@@ -32,8 +33,8 @@ pub(super) enum Bound {
     Delta,
     /// An area light within the sphere (centre, radius²) emitting at most `power` = L_max·A.
     Sphere { centre: Vec3, r2: f32, power: f32 },
-    /// An environment with this irradiance estimate (π × mean radiance).
-    Infinite(f32),
+    /// An environment: it takes a fixed share of the choices.
+    Infinite,
 }
 
 /// The bound of each light of `lights`, whose area lights lie on `shapes`.
@@ -47,8 +48,7 @@ pub(super) fn bounds(lights: &[Light], shapes: &[Shape]) -> Vec<Bound> {
                 let (centre, r2) = bounding_sphere(g);
                 Bound::Sphere { centre, r2, power: a.radiance.range().1.max(0.0) * g.area() }
             }
-            Light::Constant(c) => Bound::Infinite(PI * c.radiance.max_channel().max(0.0)),
-            Light::EnvMap(e) => Bound::Infinite(PI * e.mean_max_channel()),
+            Light::Constant(_) | Light::EnvMap(_) => Bound::Infinite,
         })
         .collect()
 }
@@ -102,13 +102,41 @@ impl Scene {
                 };
                 power * cos / d2.max(r2).max(f32::MIN_POSITIVE)
             }
-            Bound::Infinite(e) => e,
+            Bound::Infinite => 0.0,
         };
+        // Finite, and small enough that the sum of all stays finite.
         if w.is_finite() {
-            w
+            w.min(1e30)
         } else {
-            f32::MAX
+            1e30
         }
+    }
+
+    /// The probability of choosing each light at `r` (entries past the last light are 0).
+    #[inline]
+    fn choice_pmf(&self, r: &RefPoint) -> [f32; ADAPTIVE_MAX] {
+        let n = self.lights.len();
+        let mut p = [0.0f32; ADAPTIVE_MAX];
+        let mut sum = 0.0f32;
+        for (i, p) in p[..n].iter_mut().enumerate() {
+            if Some(i) != self.environment {
+                *p = self.light_weight(i, r);
+                sum += *p;
+            }
+        }
+        let share = match (sum > 0.0, self.environment) {
+            (false, _) => 0.0,
+            (true, Some(_)) => 0.5,
+            (true, None) => 1.0,
+        };
+        let scale = if share > 0.0 { share / sum } else { 0.0 };
+        for p in &mut p[..n] {
+            *p *= scale;
+        }
+        if let Some(e) = self.environment {
+            p[e] = 1.0 - share;
+        }
+        p
     }
 
     /// The light chosen from `r` with number `uc`, and the probability of that choice; None
@@ -119,28 +147,19 @@ impl Scene {
         if n <= 1 || n > ADAPTIVE_MAX {
             return (n > 0).then(|| (self.light_index(uc), self.light_select_pdf()));
         }
-        let mut w = [0.0f32; ADAPTIVE_MAX];
-        let mut sum = 0.0f32;
-        for (i, w) in w[..n].iter_mut().enumerate() {
-            *w = self.light_weight(i, r);
-            sum += *w;
-        }
-        if !(sum > 0.0 && sum.is_finite()) {
-            return None;
-        }
-        let target = uc * sum;
+        let p = self.choice_pmf(r);
         let mut acc = 0.0;
         let mut chosen = None;
-        for (i, &wi) in w[..n].iter().enumerate() {
-            if wi > 0.0 {
+        for (i, &pi) in p[..n].iter().enumerate() {
+            if pi > 0.0 {
                 chosen = Some(i);
-                acc += wi;
-                if target < acc {
+                acc += pi;
+                if uc < acc {
                     break;
                 }
             }
         }
-        chosen.map(|i| (i, w[i] / sum))
+        chosen.map(|i| (i, p[i]))
     }
 
     /// The probability that [`choose_light`](Self::choose_light) at `r` chooses light `i`.
@@ -150,12 +169,7 @@ impl Scene {
         if n <= 1 || n > ADAPTIVE_MAX {
             return self.light_select_pdf();
         }
-        let wi = self.light_weight(i, r);
-        if wi <= 0.0 {
-            return 0.0;
-        }
-        let sum: f32 = (0..n).map(|k| if k == i { wi } else { self.light_weight(k, r) }).sum();
-        wi / sum
+        self.choice_pmf(r)[i]
     }
 }
 
