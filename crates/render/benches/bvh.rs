@@ -336,7 +336,7 @@ fn cost_split(torus: &Scene) {
         shadows.clear();
         for ((_, si), s) in interactions.iter().zip(samplers.iter_mut()) {
             let r = RefPoint { p: si.p, n: Some(si.frame.n) };
-            if let Some(ls) = scene.sample_light(&r, s.next_1d(), s.next_1d(), s.next_2d()) {
+            if let Some(ls) = scene.sample_light(&r, s.next_1d(), s.next_1d(), s.next_2d(), true) {
                 if let Some((ray, _)) = scene.shadow_ray(si.p, si.ng, &ls) {
                     shadows.push(ray);
                 }

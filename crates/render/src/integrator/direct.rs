@@ -53,7 +53,7 @@ pub fn estimate(
     let mut result = Rgb::ZERO;
     let Some(si) = first else {
         if !hide_emitters {
-            if let Some((le, _)) = scene.environment_eval(ray.d, None) {
+            if let Some((le, _)) = scene.environment_eval(ray.d, None, false) {
                 result += le;
             }
         }
@@ -80,7 +80,7 @@ pub fn estimate(
         let r = RefPoint { p: si.p, n: if transmits { None } else { Some(si.frame.n * wo.z.signum()) } };
         for _ in 0..n.emitter {
             let (uc, uc2, u) = (sampler.next_1d(), sampler.next_1d(), sampler.next_2d());
-            let Some(ls) = scene.sample_light(&r, uc, uc2, u) else { continue };
+            let Some(ls) = scene.sample_light(&r, uc, uc2, u, n.bsdf > 0) else { continue };
             let wi = si.frame.to_local(ls.wi);
             if !usable(wi.z) {
                 continue;
@@ -105,7 +105,7 @@ pub fn estimate(
             match scene.intersect(&next) {
                 None => {
                     let from = (!bs.delta).then_some(&r);
-                    if let Some((le, pdf)) = scene.environment_eval(d, from) {
+                    if let Some((le, pdf)) = scene.environment_eval(d, from, true) {
                         result += bs.weight * le * w(pdf);
                     }
                 }
@@ -115,7 +115,7 @@ pub fn estimate(
                     if le.is_black() {
                         continue;
                     }
-                    result += bs.weight * le * w(scene.light_pdf(index, &r, d, Some((hit.p, hit.ng))));
+                    result += bs.weight * le * w(scene.light_pdf(index, &r, d, Some((hit.p, hit.ng)), true));
                 }
             }
         }

@@ -142,7 +142,7 @@ pub fn trace(
             if !hide_emitters || scattered {
                 // The light pdf only where a BRDF sample needs its MIS weight.
                 let from = prev.as_ref().filter(|pv| !pv.delta);
-                if let Some((le, pdf)) = scene.environment_eval(ray.d, from.map(|pv| &pv.r)) {
+                if let Some((le, pdf)) = scene.environment_eval(ray.d, from.map(|pv| &pv.r), true) {
                     let w = from.map_or(1.0, |pv| power_heuristic(pv.pdf, pdf));
                     result += beta * le * w;
                 }
@@ -155,7 +155,7 @@ pub fn trace(
             if !le.is_black() {
                 let w = match &prev {
                     Some(pv) if !pv.delta => {
-                        power_heuristic(pv.pdf, scene.light_pdf(index, &pv.r, ray.d, Some((si.p, si.ng))))
+                        power_heuristic(pv.pdf, scene.light_pdf(index, &pv.r, ray.d, Some((si.p, si.ng)), true))
                     }
                     _ => 1.0,
                 };
@@ -182,7 +182,7 @@ pub fn trace(
             let r = RefPoint { p: si.p, n };
 
             // Next-event estimation.
-            if let Some(ls) = scene.sample_light(&r, uc, uc2, u) {
+            if let Some(ls) = scene.sample_light(&r, uc, uc2, u, true) {
                 let wi = si.frame.to_local(ls.wi);
                 if usable(wi.z) {
                     let (f, brdf_pdf) = brdf.eval_pdf(wi, wo);

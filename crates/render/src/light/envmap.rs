@@ -17,6 +17,13 @@
 //! sin θ both vanish, it takes their ratio's limit.
 //! A map with no light to sample by (all black, or only 2 rows, whose sin θj are both 0)
 //! is sampled uniformly.
+//!
+//! Light samples that MIS combines with BSDF samples may use the *compensated* density
+//! instead (Karlík, Šik, Vévoda, Skřivan & Křivánek, "MIS compensation", 2019; pbrt-v4 does
+//! the same): f from the radiance less its mean over the sphere, clamped at 0. Where the map is
+//! dimmer than its mean the BSDF samples find its light (their MIS weight there is 1), and the
+//! light samples go where the map is bright. Without a BSDF strategy beside it, a light sample
+//! must use the full density.
 
 use crate::error::{Error, Result};
 use crate::image::Image;
@@ -37,10 +44,21 @@ pub struct EnvMap {
     texels: Vec<Rgb>,
     /// The sampling density over (u − ½/W, v); None when there is no light to sample by.
     warp: Option<Bilinear2D>,
+    /// The compensated density; None where nothing exceeds the mean (a constant map).
+    warp_mis: Option<Bilinear2D>,
     /// False: sample the sphere uniformly instead (for tests and comparisons).
     pub importance: bool,
     /// The map's rotation into the world (Mitsuba's `to_world`); None for the identity.
     to_world: Option<glam::Mat3>,
+}
+
+/// Which density an environment map's light samples follow.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EnvDensity {
+    /// By radiance (× sin θ): what light sampling alone needs.
+    Radiance,
+    /// By radiance less its mean, for light samples that MIS combines with BSDF samples.
+    Compensated,
 }
 
 /// The (u, v) of Mitsuba's lookup for a direction (unit, or any length).
@@ -75,13 +93,24 @@ impl EnvMap {
             .collect();
         // sin θj from the nearer pole, so that both pole rows are exactly 0.
         let sin_theta = |j: usize| (std::f64::consts::PI * j.min(h - 1 - j) as f64 / (h - 1) as f64).sin() as f32;
-        let f: Vec<f32> =
-            texels.iter().enumerate().map(|(k, t)| t.luminance().max(0.0) * sin_theta(k / (w + 1))).collect();
+        let lum: Vec<f32> = texels.iter().map(|t| t.luminance().max(0.0)).collect();
+        let f: Vec<f32> = lum.iter().enumerate().map(|(k, l)| l * sin_theta(k / (w + 1))).collect();
+        // The mean over the sphere, each texel weighted by its sin θ (the repeated column left out).
+        let (mut sum, mut weight) = (0.0f64, 0.0f64);
+        for (k, l) in lum.iter().enumerate().filter(|(k, _)| k % (w + 1) != w) {
+            let s = sin_theta(k / (w + 1)) as f64;
+            sum += *l as f64 * s;
+            weight += s;
+        }
+        let mean = if weight > 0.0 { (sum / weight) as f32 } else { 0.0 };
+        let f_mis: Vec<f32> =
+            lum.iter().enumerate().map(|(k, l)| (l - mean).max(0.0) * sin_theta(k / (w + 1))).collect();
         Ok(EnvMap {
             width: w,
             height: h,
             texels,
             warp: Bilinear2D::new(&f, w + 1, h),
+            warp_mis: Bilinear2D::new(&f_mis, w + 1, h),
             importance: true,
             to_world: None,
         })
@@ -165,11 +194,23 @@ impl EnvMap {
         warp.cell_scale(i, j) * p_over_sin * (0.5 / (PI * PI))
     }
 
+    /// The density `d` samples by; None for uniform sampling.
+    #[inline]
+    fn warp(&self, d: EnvDensity) -> Option<&Bilinear2D> {
+        if !self.importance {
+            return None;
+        }
+        match d {
+            EnvDensity::Compensated => self.warp_mis.as_ref().or(self.warp.as_ref()),
+            EnvDensity::Radiance => self.warp.as_ref(),
+        }
+    }
+
     /// Starts loading what `sample(_, uc, _)` reads first, the cell choice's table entry: called
     /// well before `sample`, its cache miss overlaps other work.
     #[inline]
-    pub fn prefetch_sample(&self, uc: f32) {
-        if let Some(warp) = self.warp.as_ref().filter(|_| self.importance) {
+    pub fn prefetch_sample(&self, uc: f32, d: EnvDensity) {
+        if let Some(warp) = self.warp(d) {
             warp.prefetch_cell_choice(uc);
         }
     }
@@ -177,8 +218,8 @@ impl EnvMap {
     /// Once that entry is loaded, starts loading the cell's corners and texels that
     /// `sample(_, uc, u)` reads next.
     #[inline]
-    pub fn prefetch_sample_cell(&self, uc: f32, u: Vec2) {
-        if let Some(warp) = self.warp.as_ref().filter(|_| self.importance) {
+    pub fn prefetch_sample_cell(&self, uc: f32, u: Vec2, d: EnvDensity) {
+        if let Some(warp) = self.warp(d) {
             let (i, j) = warp.prefetch_cell(uc, u.y);
             let k = j * (self.width + 1) + i;
             radiometry::prefetch::prefetch(&self.texels[k]);
@@ -189,8 +230,13 @@ impl EnvMap {
     /// A direction towards the environment with its solid-angle density and radiance, from
     /// uniform numbers `uc` and `u`.
     pub fn sample(&self, p: Vec3, uc: f32, u: Vec2) -> Option<LightSample> {
-        let (wi, li, pdf) = match (&self.warp, self.importance) {
-            (Some(warp), true) => {
+        self.sample_by(p, uc, u, EnvDensity::Radiance)
+    }
+
+    /// [`sample`](Self::sample) by density `d`.
+    pub fn sample_by(&self, p: Vec3, uc: f32, u: Vec2, d: EnvDensity) -> Option<LightSample> {
+        let (wi, li, pdf) = match self.warp(d) {
+            Some(warp) => {
                 let s = warp.sample(uc, u);
                 let mut uu = (s.i as f32 + 0.5 + s.frac.x) / self.width as f32;
                 if uu >= 1.0 {
@@ -208,7 +254,7 @@ impl EnvMap {
                 };
                 (wi, self.radiance(s.i, s.j, s.frac), pdf)
             }
-            _ => {
+            None => {
                 let wi = uniform_sphere(u);
                 let (i, j, f) = self.cell(direction_to_uv(wi));
                 (wi, self.radiance(i, j, f), uniform_sphere_pdf())
@@ -231,22 +277,32 @@ impl EnvMap {
 
     /// `eval` and `pdf` together, sharing the direction's cell: bit for bit what each returns.
     pub fn eval_pdf(&self, d: Vec3) -> (Rgb, f32) {
+        self.eval_pdf_by(d, EnvDensity::Radiance)
+    }
+
+    /// [`eval_pdf`](Self::eval_pdf) with the density `density`.
+    pub fn eval_pdf_by(&self, d: Vec3, density: EnvDensity) -> (Rgb, f32) {
         let m = self.to_map(d);
         let (i, j, f) = self.cell(direction_to_uv(m));
-        (self.radiance(i, j, f), self.pdf_in_cell(m, i, j, f))
+        (self.radiance(i, j, f), self.pdf_in_cell(m, i, j, f, density))
     }
 
     /// The density of `sample` for direction `d`.
     pub fn pdf(&self, d: Vec3) -> f32 {
-        let m = self.to_map(d);
-        let (i, j, f) = self.cell(direction_to_uv(m));
-        self.pdf_in_cell(m, i, j, f)
+        self.pdf_by(d, EnvDensity::Radiance)
     }
 
-    /// The density of `sample` for map direction `m`, at place `f` of its cell (i, j).
+    /// The density of `sample_by(…, density)` for direction `d`.
+    pub fn pdf_by(&self, d: Vec3, density: EnvDensity) -> f32 {
+        let m = self.to_map(d);
+        let (i, j, f) = self.cell(direction_to_uv(m));
+        self.pdf_in_cell(m, i, j, f, density)
+    }
+
+    /// The density `density` for map direction `m`, at place `f` of its cell (i, j).
     #[inline]
-    fn pdf_in_cell(&self, m: Vec3, i: usize, j: usize, f: Vec2) -> f32 {
-        let Some(warp) = self.warp.as_ref().filter(|_| self.importance) else {
+    fn pdf_in_cell(&self, m: Vec3, i: usize, j: usize, f: Vec2, density: EnvDensity) -> f32 {
+        let Some(warp) = self.warp(density) else {
             return uniform_sphere_pdf();
         };
         let pdf = self.density(warp, i, j, f, (m.x * m.x + m.z * m.z).sqrt());
@@ -320,6 +376,40 @@ mod tests {
                 assert_eq!((le, pdf.to_bits()), (env.eval(d), env.pdf(d).to_bits()), "{d}");
             }
         }
+    }
+
+    #[test]
+    fn compensated_density_skips_what_is_dimmer_than_the_mean() {
+        let env = EnvMap::new(&test_map(16, 9), 1.0).unwrap();
+        let c = EnvDensity::Compensated;
+        // Normalised: the same midpoint rule as below, exact on the bilinear cells.
+        let mut integral = 0.0f64;
+        for j in 0..8 {
+            let v = (j as f32 + 0.5) / 8.0;
+            for i in 0..16 {
+                let d = uv_to_direction(Vec2::new((i as f32 + 1.0) / 16.0, v));
+                integral += (env.pdf_by(d, c) * 2.0 * PI * PI * (v * PI).sin()) as f64 / (16 * 8) as f64;
+            }
+        }
+        assert!((integral - 1.0).abs() < 1e-5, "{integral}");
+        // The dim texels (about 0.2 against a mean near 4) get nothing; the bright spot all.
+        let dim = uv_to_direction(Vec2::new(12.5 / 16.0, 2.0 / 8.0));
+        let spot = uv_to_direction(Vec2::new(6.5 / 16.0, 4.5 / 8.0));
+        assert_eq!(env.pdf_by(dim, c), 0.0);
+        assert!(env.pdf(dim) > 0.0 && env.pdf_by(spot, c) > env.pdf(spot));
+        // Samples follow the density they report, and land only where it is positive.
+        let mut rng = Sampler::new(5, 0, 0);
+        for _ in 0..20_000 {
+            let s = env.sample_by(Vec3::ZERO, rng.next_1d(), rng.next_2d(), c).unwrap();
+            let pdf = env.pdf_by(s.wi, c);
+            assert!(pdf > 0.0 && ((pdf - s.pdf) / s.pdf).abs() < 1e-2, "{pdf} against {}", s.pdf);
+        }
+        // A constant map has nothing above its mean: it keeps the full density.
+        let mut img = Image::new(8, 5);
+        img.pixels.iter_mut().for_each(|p| *p = Rgb::splat(0.5));
+        let flat = EnvMap::new(&img, 1.0).unwrap();
+        let d = Vec3::new(0.3, 0.4, -0.5).normalize();
+        assert_eq!(flat.pdf_by(d, c), flat.pdf(d));
     }
 
     #[test]

@@ -286,7 +286,7 @@ mod tests {
         let mut s = Sampler::new(3, 0, 0);
         let mut checked = 0;
         for r in points(500) {
-            let Some(ls) = scene.sample_light(&r, s.next_1d(), s.next_1d(), s.next_2d()) else { continue };
+            let Some(ls) = scene.sample_light(&r, s.next_1d(), s.next_1d(), s.next_2d(), false) else { continue };
             if ls.delta {
                 continue;
             }
@@ -298,9 +298,9 @@ mod tests {
                         Geometry::Sphere(sp) => (ls.p - sp.center).normalize(),
                         _ => unreachable!(),
                     };
-                    scene.light_pdf(i, &r, ls.wi, Some((ls.p, n)))
+                    scene.light_pdf(i, &r, ls.wi, Some((ls.p, n)), false)
                 }
-                None => scene.environment_eval(ls.wi, Some(&r)).unwrap().1,
+                None => scene.environment_eval(ls.wi, Some(&r), false).unwrap().1,
             };
             assert!((pdf - ls.pdf).abs() <= 1e-3 * ls.pdf, "{pdf} against {} from {r:?}", ls.pdf);
             checked += 1;

@@ -11,6 +11,7 @@ pub use packet::{lanes_of, PacketHits};
 use crate::bvh::{Bvh, Tri16};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
+use crate::light::envmap::EnvDensity;
 use crate::light::{AreaLight, Light, LightSample, RefPoint};
 use crate::material::Material;
 use crate::ray::{spawn_ray, spawn_ray_to, surface_epsilon, Ray};
@@ -371,14 +372,14 @@ impl Scene {
     }
 
     /// The environment's radiance along escaping direction `d` and, when `from` is given, the
-    /// density (choice included) with which `sample_light` from there gives `d` (else 0);
-    /// one map lookup serves both. None without an environment.
+    /// density (choice included) with which `sample_light(…, mis)` from there gives `d` (else
+    /// 0); one map lookup serves both. None without an environment.
     #[inline]
-    pub fn environment_eval(&self, d: Vec3, from: Option<&RefPoint>) -> Option<(Rgb, f32)> {
+    pub fn environment_eval(&self, d: Vec3, from: Option<&RefPoint>, mis: bool) -> Option<(Rgb, f32)> {
         let env = self.environment?;
         let (le, pdf) = match &self.lights[env] {
             Light::Constant(c) => (c.radiance, from.map_or(0.0, |r| c.pdf(r, d))),
-            Light::EnvMap(e) if from.is_some() => e.eval_pdf(d),
+            Light::EnvMap(e) if from.is_some() => e.eval_pdf_by(d, env_density(mis)),
             Light::EnvMap(e) => (e.eval(d), 0.0),
             _ => return None,
         };
@@ -406,7 +407,7 @@ impl Scene {
     #[inline]
     pub fn prefetch_light(&self, uc: f32, uc2: f32) {
         if let Some(Light::EnvMap(e)) = self.lights.get(self.likely_light(uc)) {
-            e.prefetch_sample(uc2);
+            e.prefetch_sample(uc2, EnvDensity::Compensated);
         }
     }
 
@@ -425,12 +426,14 @@ impl Scene {
     #[inline]
     pub fn prefetch_light_cell(&self, uc: f32, uc2: f32, u: Vec2) {
         if let Some(Light::EnvMap(e)) = self.lights.get(self.likely_light(uc)) {
-            e.prefetch_sample_cell(uc2, u);
+            e.prefetch_sample_cell(uc2, u, EnvDensity::Compensated);
         }
     }
 
     /// Chooses a light ([`light_choice`]) and samples it; the returned pdf includes the choice.
-    pub fn sample_light(&self, r: &RefPoint, uc: f32, uc2: f32, u: Vec2) -> Option<LightSample> {
+    /// `mis`: a BSDF sample weighted by multiple importance sampling goes with it, so that an
+    /// environment map may be sampled by its compensated density ([`EnvDensity`]).
+    pub fn sample_light(&self, r: &RefPoint, uc: f32, uc2: f32, u: Vec2, mis: bool) -> Option<LightSample> {
         let (light, choice) = self.choose_light(r, uc)?;
         let mut s = match &self.lights[light] {
             Light::Point(l) => l.sample(r)?,
@@ -438,26 +441,36 @@ impl Scene {
             Light::Directional(l) => l.sample(r)?,
             Light::Area(a) => a.sample(&self.shapes[a.shape].geometry, r, uc2, u)?,
             Light::Constant(c) => c.sample(r, u)?,
-            Light::EnvMap(e) => e.sample(r.p, uc2, u)?,
+            Light::EnvMap(e) => e.sample_by(r.p, uc2, u, env_density(mis))?,
         };
         s.pdf *= choice;
         Some(s)
     }
 
-    /// Density (choice included) with which `sample_light` from `r` gives direction `wi`
-    /// towards light `light`; for an area light, `hit` is the point reached and its normal.
-    pub fn light_pdf(&self, light: usize, r: &RefPoint, wi: Vec3, hit: Option<(Vec3, Vec3)>) -> f32 {
+    /// Density (choice included) with which `sample_light(…, mis)` from `r` gives direction
+    /// `wi` towards light `light`; for an area light, `hit` is the point reached and its normal.
+    pub fn light_pdf(&self, light: usize, r: &RefPoint, wi: Vec3, hit: Option<(Vec3, Vec3)>, mis: bool) -> f32 {
         let pdf = match (&self.lights[light], hit) {
             (Light::Point(_) | Light::Spot(_) | Light::Directional(_), _) => 0.0,
             (Light::Area(a), Some((p, n))) => self.shapes[a.shape].geometry.pdf(r.p, p, n),
             (Light::Area(_), None) => 0.0,
             (Light::Constant(c), _) => c.pdf(r, wi),
-            (Light::EnvMap(e), _) => e.pdf(wi),
+            (Light::EnvMap(e), _) => e.pdf_by(wi, env_density(mis)),
         };
         if pdf == 0.0 {
             return 0.0;
         }
         pdf * self.light_choice_pdf(light, r)
+    }
+}
+
+/// The density an environment map's light samples follow, with or without MIS beside them.
+#[inline]
+fn env_density(mis: bool) -> EnvDensity {
+    if mis {
+        EnvDensity::Compensated
+    } else {
+        EnvDensity::Radiance
     }
 }
 
