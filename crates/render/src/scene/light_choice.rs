@@ -102,6 +102,7 @@ impl Scene {
                 };
                 power * cos / d2.max(r2).max(f32::MIN_POSITIVE)
             }
+            // No weight of its own: the environment's share is fixed (`choice_pmf`).
             Bound::Infinite => 0.0,
         };
         // Finite, and small enough that the sum of all stays finite.
@@ -112,6 +113,13 @@ impl Scene {
         }
     }
 
+    /// Whether the choice depends on the reference point (2 to [`ADAPTIVE_MAX`] lights); else
+    /// it is uniform.
+    #[inline]
+    pub(super) fn choice_adapts(&self) -> bool {
+        (2..=ADAPTIVE_MAX).contains(&self.lights.len())
+    }
+
     /// The probability of choosing each light at `r` (entries past the last light are 0).
     #[inline]
     fn choice_pmf(&self, r: &RefPoint) -> [f32; ADAPTIVE_MAX] {
@@ -119,10 +127,8 @@ impl Scene {
         let mut p = [0.0f32; ADAPTIVE_MAX];
         let mut sum = 0.0f32;
         for (i, p) in p[..n].iter_mut().enumerate() {
-            if Some(i) != self.environment {
-                *p = self.light_weight(i, r);
-                sum += *p;
-            }
+            *p = self.light_weight(i, r);
+            sum += *p;
         }
         let share = match (sum > 0.0, self.environment) {
             (false, _) => 0.0,
@@ -144,7 +150,7 @@ impl Scene {
     #[inline]
     pub(super) fn choose_light(&self, r: &RefPoint, uc: f32) -> Option<(usize, f32)> {
         let n = self.lights.len();
-        if n <= 1 || n > ADAPTIVE_MAX {
+        if !self.choice_adapts() {
             return (n > 0).then(|| (self.light_index(uc), self.light_select_pdf()));
         }
         let p = self.choice_pmf(r);
@@ -165,8 +171,7 @@ impl Scene {
     /// The probability that [`choose_light`](Self::choose_light) at `r` chooses light `i`.
     #[inline]
     pub fn light_choice_pdf(&self, i: usize, r: &RefPoint) -> f32 {
-        let n = self.lights.len();
-        if n <= 1 || n > ADAPTIVE_MAX {
+        if !self.choice_adapts() {
             return self.light_select_pdf();
         }
         self.choice_pmf(r)[i]

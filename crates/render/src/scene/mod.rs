@@ -416,7 +416,7 @@ impl Scene {
     #[inline]
     fn likely_light(&self, uc: f32) -> usize {
         match self.environment {
-            Some(i) if (2..=light_choice::ADAPTIVE_MAX).contains(&self.lights.len()) => i,
+            Some(i) if self.choice_adapts() => i,
             _ => self.light_index(uc),
         }
     }
