@@ -113,6 +113,19 @@ impl Scene {
         }
     }
 
+    /// Whether light `i`'s estimate at `r` is positive, without computing it for a point light
+    /// (the sign of the cosine is the sign of the unnormalised one).
+    #[inline]
+    fn can_light(&self, i: usize, r: &RefPoint) -> bool {
+        match &self.lights[i] {
+            Light::Point(l) => {
+                let v = l.position - r.p;
+                l.intensity.max_channel() > 0.0 && v != Vec3::ZERO && r.n.map_or(true, |n| v.dot(n) > 0.0)
+            }
+            _ => self.light_weight(i, r) > 0.0,
+        }
+    }
+
     /// Whether the choice depends on the reference point (2 to [`ADAPTIVE_MAX`] lights); else
     /// it is uniform.
     #[inline]
@@ -126,9 +139,16 @@ impl Scene {
         let n = self.lights.len();
         let mut p = [0.0f32; ADAPTIVE_MAX];
         let mut sum = 0.0f32;
-        for (i, p) in p[..n].iter_mut().enumerate() {
-            *p = self.light_weight(i, r);
-            sum += *p;
+        if let (Some(e), 2) = (self.environment, n) {
+            // One light beside the environment: only whether it can light `r` matters.
+            let k = 1 - e;
+            sum = if self.can_light(k, r) { 1.0 } else { 0.0 };
+            p[k] = sum;
+        } else {
+            for (i, p) in p[..n].iter_mut().enumerate() {
+                *p = self.light_weight(i, r);
+                sum += *p;
+            }
         }
         let share = match (sum > 0.0, self.environment) {
             (false, _) => 0.0,
@@ -233,6 +253,30 @@ mod tests {
                 RefPoint { p, n: (k % 2 == 0).then_some(d) }
             })
             .collect()
+    }
+
+    #[test]
+    fn one_light_beside_the_environment_gets_half_where_it_can_light() {
+        let cam = Camera::new(look_at(Vec3::Z * 10.0, Vec3::ZERO, Vec3::Y).unwrap(), 40.0, FovAxis::X, 8, 8);
+        let mut b = SceneBuilder::new(cam);
+        b.light(Light::Constant(ConstantEnv { radiance: Rgb::splat(0.1) }));
+        b.light(Light::Point(PointLight { position: Vec3::new(1.5, 1.0, -1.0), intensity: Rgb::splat(3.0) }));
+        let scene = b.build().unwrap();
+        let (mut front, mut behind) = (0, 0);
+        for r in points(400) {
+            // What the general rule gives: the environment's half, and the rest to the light
+            // exactly where its irradiance estimate is positive.
+            let lit = scene.light_weight(1, &r) > 0.0;
+            let want = if lit { 0.5 } else { 0.0 };
+            assert_eq!(scene.light_choice_pdf(1, &r), want, "{r:?}");
+            assert_eq!(scene.light_choice_pdf(0, &r), 1.0 - want, "{r:?}");
+            if lit {
+                front += 1;
+            } else {
+                behind += 1;
+            }
+        }
+        assert!(front > 0 && behind > 0, "points on both sides: {front} in front, {behind} behind");
     }
 
     #[test]
