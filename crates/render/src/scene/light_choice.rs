@@ -120,7 +120,7 @@ impl Scene {
         match &self.lights[i] {
             Light::Point(l) => {
                 let v = l.position - r.p;
-                l.intensity.max_channel() > 0.0 && v != Vec3::ZERO && r.n.map_or(true, |n| v.dot(n) > 0.0)
+                l.intensity.max_channel() > 0.0 && v != Vec3::ZERO && r.n.is_none_or(|n| v.dot(n) > 0.0)
             }
             _ => self.light_weight(i, r) > 0.0,
         }
