@@ -210,11 +210,15 @@ mod tests {
     use glam::Mat4;
     use radiometry::Rgb;
 
+    /// An empty scene seen by a small camera.
+    fn builder() -> SceneBuilder {
+        SceneBuilder::new(Camera::new(look_at(Vec3::Z * 10.0, Vec3::ZERO, Vec3::Y).unwrap(), 40.0, FovAxis::X, 8, 8))
+    }
+
     /// Six lights of every kind: an emitting rectangle and sphere, a point, a spot, a
     /// directional light and a constant environment.
     fn six_lights() -> Scene {
-        let cam = Camera::new(look_at(Vec3::Z * 10.0, Vec3::ZERO, Vec3::Y).unwrap(), 40.0, FovAxis::X, 8, 8);
-        let mut b = SceneBuilder::new(cam);
+        let mut b = builder();
         let emitter = |g: Geometry, l: f32| {
             let mut s = Shape::new(g, brdf::build("lambert", &[]).unwrap());
             s.emission = Some(Texture::Constant(Rgb::new(l, 0.5 * l, 0.25 * l)));
@@ -257,8 +261,7 @@ mod tests {
 
     #[test]
     fn one_light_beside_the_environment_gets_half_where_it_can_light() {
-        let cam = Camera::new(look_at(Vec3::Z * 10.0, Vec3::ZERO, Vec3::Y).unwrap(), 40.0, FovAxis::X, 8, 8);
-        let mut b = SceneBuilder::new(cam);
+        let mut b = builder();
         b.light(Light::Constant(ConstantEnv { radiance: Rgb::splat(0.1) }));
         b.light(Light::Point(PointLight { position: Vec3::new(1.5, 1.0, -1.0), intensity: Rgb::splat(3.0) }));
         let scene = b.build().unwrap();
