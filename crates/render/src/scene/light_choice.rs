@@ -139,16 +139,9 @@ impl Scene {
         let n = self.lights.len();
         let mut p = [0.0f32; ADAPTIVE_MAX];
         let mut sum = 0.0f32;
-        if let (Some(e), 2) = (self.environment, n) {
-            // One light beside the environment: only whether it can light `r` matters.
-            let k = 1 - e;
-            sum = if self.can_light(k, r) { 1.0 } else { 0.0 };
-            p[k] = sum;
-        } else {
-            for (i, p) in p[..n].iter_mut().enumerate() {
-                *p = self.light_weight(i, r);
-                sum += *p;
-            }
+        for (i, p) in p[..n].iter_mut().enumerate() {
+            *p = self.light_weight(i, r);
+            sum += *p;
         }
         let share = match (sum > 0.0, self.environment) {
             (false, _) => 0.0,
@@ -165,6 +158,24 @@ impl Scene {
         p
     }
 
+    /// The environment's index when it has exactly one light beside it.
+    #[inline]
+    fn beside_environment(&self) -> Option<usize> {
+        self.environment.filter(|_| self.lights.len() == 2)
+    }
+
+    /// [`choice_pmf`](Self::choice_pmf) for one light beside environment `e`: only whether
+    /// that light can light `r` matters (half each, or all to the environment). Two entries,
+    /// which stay in registers.
+    #[inline]
+    fn pmf_beside_environment(&self, e: usize, r: &RefPoint) -> [f32; 2] {
+        let lit = self.can_light(1 - e, r);
+        let mut p = [0.0; 2];
+        p[1 - e] = if lit { 0.5 } else { 0.0 };
+        p[e] = if lit { 0.5 } else { 1.0 };
+        p
+    }
+
     /// The light chosen from `r` with number `uc`, and the probability of that choice; None
     /// when no light can light `r`.
     #[inline]
@@ -173,19 +184,10 @@ impl Scene {
         if !self.choice_adapts() {
             return (n > 0).then(|| (self.light_index(uc), self.light_select_pdf()));
         }
-        let p = self.choice_pmf(r);
-        let mut acc = 0.0;
-        let mut chosen = None;
-        for (i, &pi) in p[..n].iter().enumerate() {
-            if pi > 0.0 {
-                chosen = Some(i);
-                acc += pi;
-                if uc < acc {
-                    break;
-                }
-            }
+        match self.beside_environment() {
+            Some(e) => pick(&self.pmf_beside_environment(e, r), uc),
+            None => pick(&self.choice_pmf(r)[..n], uc),
         }
-        chosen.map(|i| (i, p[i]))
     }
 
     /// The probability that [`choose_light`](Self::choose_light) at `r` chooses light `i`.
@@ -194,8 +196,29 @@ impl Scene {
         if !self.choice_adapts() {
             return self.light_select_pdf();
         }
-        self.choice_pmf(r)[i]
+        match self.beside_environment() {
+            Some(e) => self.pmf_beside_environment(e, r)[i],
+            None => self.choice_pmf(r)[i],
+        }
     }
+}
+
+/// The entry of `p` that number `uc` picks, with its probability: the first positive entry
+/// whose running sum exceeds `uc`, or the last positive one; None when none is positive.
+#[inline]
+fn pick(p: &[f32], uc: f32) -> Option<(usize, f32)> {
+    let mut acc = 0.0;
+    let mut chosen = None;
+    for (i, &pi) in p.iter().enumerate() {
+        if pi > 0.0 {
+            chosen = Some(i);
+            acc += pi;
+            if uc < acc {
+                break;
+            }
+        }
+    }
+    chosen.map(|i| (i, p[i]))
 }
 
 #[cfg(test)]
@@ -273,6 +296,9 @@ mod tests {
             let want = if lit { 0.5 } else { 0.0 };
             assert_eq!(scene.light_choice_pdf(1, &r), want, "{r:?}");
             assert_eq!(scene.light_choice_pdf(0, &r), 1.0 - want, "{r:?}");
+            // The environment (light 0) takes the numbers below its share, the light the rest.
+            assert_eq!(scene.choose_light(&r, 0.25), Some((0, 1.0 - want)), "{r:?}");
+            assert_eq!(scene.choose_light(&r, 0.75), if lit { Some((1, 0.5)) } else { Some((0, 1.0)) }, "{r:?}");
             if lit {
                 front += 1;
             } else {
