@@ -214,6 +214,25 @@ fn a_few_analytic_shapes_tested_without_the_bvh_match_brute_force() {
 }
 
 #[test]
+fn a_few_triangles_beside_analytic_shapes_tested_without_the_bvh_match_brute_force() {
+    // Up to sixty-four triangles (three packs here, the last part full, large overlapping ones
+    // included) with spheres, a rectangle and a disk: every query tests them all.
+    let mut r = Rnd::new(6);
+    let mut b = builder();
+    add(&mut b, Geometry::Mesh(soup(&mut r, 40, 2.0)));
+    add(&mut b, Geometry::Mesh(grid(2)));
+    for _ in 0..3 {
+        add(&mut b, Geometry::Sphere(Sphere::new(r.v(3.0), r.f(0.3, 1.5))));
+    }
+    add(&mut b, Geometry::Rectangle(Rectangle::new(&transform(&mut r)).unwrap()));
+    add(&mut b, Geometry::Disk(Disk::new(&transform(&mut r)).unwrap()));
+    let scene = b.build().unwrap();
+    assert!(scene.without_bvh(), "{} primitives", scene.primitive_count());
+    let hits = check(&scene, &mut r, 4000);
+    assert!(hits > 300, "the test must exercise hits: {hits}");
+}
+
+#[test]
 fn empty_and_single_primitive_scenes() {
     let mut r = Rnd::new(3);
     assert_eq!(check(&builder().build().unwrap(), &mut r, 100), 0);

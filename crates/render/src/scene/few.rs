@@ -1,13 +1,15 @@
-//! Scenes of a few analytic shapes and no triangles, which rays test without a BVH: the
-//! spheres four at a time in SIMD lanes, each lane doing the operations of
-//! [`Sphere::intersect`] in its order (so the same distances bit for bit), the other shapes
-//! one by one.
+//! Scenes of a few primitives, which rays test without a BVH: the triangles sixteen at a time
+//! (a [`Tri16`] per sixteen, filled in BVH order), the spheres four at a time in SIMD lanes,
+//! each lane doing the operations of [`Sphere::intersect`] in its order (so the same
+//! distances bit for bit), the other shapes one by one. On equal distances the primitive
+//! tested first stays: triangles before spheres before the rest, and lower BVH order first.
 
 use super::Scene;
+use crate::bvh::{Ray16, Tri16};
 use crate::ray::Ray;
 use crate::shape::Sphere;
-use crate::simd::dot;
-use glam::{BVec4A, Vec4};
+use crate::simd::{dot, LANES};
+use glam::{BVec4A, Vec3, Vec4};
 
 /// Four spheres as centre and squared-radius lanes; an unused lane has r² = −1, which no ray
 /// meets.
@@ -44,19 +46,45 @@ impl Sphere4 {
     }
 }
 
-/// The spheres of a few-shape scene in packs of four, and its other primitives.
+/// The triangles of a few-primitive scene in packs of sixteen, its spheres in packs of four,
+/// and its other primitives.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Few {
+    /// Each pack with its lanes' BVH-ordered primitives (`u32::MAX` when unused).
+    triangles: Vec<(Tri16, [u32; LANES])>,
     spheres: Vec<Sphere4>,
     others: Vec<u32>,
 }
 
 impl Few {
-    /// Over `n` BVH-ordered primitives, `sphere(k)` giving those that are spheres.
-    pub fn new(n: usize, sphere: impl Fn(usize) -> Option<Sphere>) -> Few {
+    /// Whether it holds no triangle: then no BVH query beats testing each primitive, not even
+    /// for a packet (a few triangles are still walked as packets, which coherent rays share).
+    pub fn analytic_only(&self) -> bool {
+        self.triangles.is_empty()
+    }
+
+    /// Over `n` BVH-ordered primitives, `triangle(k)` giving those that are triangles (as a
+    /// corner and two edges) and `sphere(k)` those that are spheres.
+    pub fn new(
+        n: usize,
+        triangle: impl Fn(usize) -> Option<(Vec3, Vec3, Vec3)>,
+        sphere: impl Fn(usize) -> Option<Sphere>,
+    ) -> Few {
         let mut few = Few::default();
         let mut spheres: Vec<(u32, Sphere)> = Vec::new();
+        let mut lane = LANES;
         for k in 0..n {
+            if let Some((p0, e1, e2)) = triangle(k) {
+                if lane == LANES {
+                    few.triangles.push((Tri16::default(), [u32::MAX; LANES]));
+                    lane = 0;
+                }
+                let (pack, prims) = few.triangles.last_mut().expect("a pack was just pushed");
+                pack.set(lane, p0, e1, e2);
+                prims[lane] = k as u32;
+                lane += 1;
+                continue;
+            }
             match sphere(k) {
                 Some(s) => spheres.push((k as u32, s)),
                 None => few.others.push(k as u32),
@@ -78,11 +106,20 @@ impl Few {
 }
 
 impl Scene {
-    /// [`intersect_t`](Self::intersect_t) in a few-shape scene.
-    #[inline]
+    /// [`intersect_t`](Self::intersect_t) in a few-primitive scene.
+    #[inline(always)]
     pub(super) fn intersect_t_few(&self, few: &Few, ray: &Ray) -> Option<(usize, f32)> {
         let mut best: Option<(usize, f32)> = None;
         let mut t_max = ray.t_max;
+        if !few.triangles.is_empty() {
+            let r16 = Ray16::new(ray.o, ray.d);
+            for (pack, prims) in &few.triangles {
+                if let Some((lane, t)) = pack.closest(&r16, t_max) {
+                    t_max = t;
+                    best = Some((prims[lane] as usize, t));
+                }
+            }
+        }
         for pack in &few.spheres {
             let (t, ok) = pack.hits(ray, t_max);
             let mut mask = ok.bitmask();
@@ -104,9 +141,18 @@ impl Scene {
         best
     }
 
-    /// [`occluded_but`](Self::occluded_but) in a few-shape scene.
-    #[inline]
+    /// [`occluded_but`](Self::occluded_but) in a few-primitive scene (triangles always count).
+    #[inline(always)]
     pub(super) fn occluded_few(&self, few: &Few, ray: &Ray, skip: Option<u32>) -> bool {
+        if !few.triangles.is_empty() {
+            let r16 = Ray16::new(ray.o, ray.d);
+            // A loop, not `Iterator::any`: a closure's body would not be compiled for the set.
+            for (pack, _) in &few.triangles {
+                if pack.any(&r16, ray.t_max) {
+                    return true;
+                }
+            }
+        }
         let counts = |k: usize| skip != Some(self.refs[k].0);
         for pack in &few.spheres {
             let mut mask = pack.hits(ray, ray.t_max).1.bitmask();
