@@ -256,12 +256,39 @@ impl Bitmap {
             FilterType::Bilinear => {
                 let (x0, y0, wx1, wy1) = self.footprint(uv);
                 let (wx0, wy0) = (1.0 - wx1, 1.0 - wy1);
-                self.texel(x0, y0) * (wx0 * wy0)
-                    + self.texel(x0 + 1, y0) * (wx1 * wy0)
-                    + self.texel(x0, y0 + 1) * (wx0 * wy1)
-                    + self.texel(x0 + 1, y0 + 1) * (wx1 * wy1)
+                let w = [wx0 * wy0, wx1 * wy0, wx0 * wy1, wx1 * wy1];
+                let ks = self.corners(x0, y0);
+                // The storage chosen once for the four texels, not at every channel read.
+                match &self.texels {
+                    Texels::Bytes(b, table) => self.bilinear(ks, w, |k| table[b[k] as usize]),
+                    Texels::Floats(f) => self.bilinear(ks, w, |k| f[k]),
+                }
             }
         }
+    }
+
+    /// The first values of the four texels of the bilinear footprint whose lower-left texel
+    /// is (x0, y0): (x0, y0), (x0 + 1, y0), (x0, y0 + 1), (x0 + 1, y0 + 1), each row and
+    /// column wrapped once.
+    #[inline]
+    fn corners(&self, x0: i64, y0: i64) -> [usize; 4] {
+        let mode = self.options.wrap;
+        let (xa, xb) = (wrap(x0, self.width, mode), wrap(x0 + 1, self.width, mode));
+        let (ya, yb) = (wrap(y0, self.height, mode) * self.width, wrap(y0 + 1, self.height, mode) * self.width);
+        [ya + xa, ya + xb, yb + xa, yb + xb].map(|i| i * self.channels)
+    }
+
+    /// Σ wᵢ·texelᵢ over the texels starting at `ks`, `value(k)` reading one stored value.
+    #[inline(always)]
+    fn bilinear(&self, ks: [usize; 4], w: [f32; 4], value: impl Fn(usize) -> f32) -> Rgb {
+        let texel = |k: usize| {
+            if self.channels == 1 {
+                Rgb::splat(value(k))
+            } else {
+                Rgb::new(value(k), value(k + 1), value(k + 2))
+            }
+        };
+        texel(ks[0]) * w[0] + texel(ks[1]) * w[1] + texel(ks[2]) * w[2] + texel(ks[3]) * w[3]
     }
 
     /// The one-number value at `uv`: the grey value, or the luminance of the RGB value.
