@@ -6,7 +6,6 @@
 //! [`Varied`], the same `Params` with some values replaced by a texture's at one surface point.
 
 use radiometry::Rgb;
-use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
 
 /// What values a parameter takes.
@@ -314,8 +313,10 @@ pub trait ParamSource {
 /// Resolved parameter values: every parameter of a model, given or defaulted, range-checked.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Params {
-    values: BTreeMap<&'static str, Value>,
-    given: BTreeSet<&'static str>,
+    /// Every parameter's value, in name order.
+    values: Vec<(&'static str, Value)>,
+    /// Per entry of `values`, whether it was given.
+    given: Vec<bool>,
 }
 
 impl Params {
@@ -335,14 +336,28 @@ impl Params {
         given: impl Iterator<Item = (&'g str, T)>,
         read: impl Fn(&ParamSpec, T) -> Result<Value, ParamError>,
     ) -> Result<Params, ParamError> {
-        let mut p =
-            Params { values: specs.iter().map(|s| (s.name, s.default.clone())).collect(), given: BTreeSet::new() };
+        let mut values: Vec<(&'static str, Value)> = specs.iter().map(|s| (s.name, s.default.clone())).collect();
+        values.sort_by_key(|(n, _)| *n);
+        values.dedup_by_key(|(n, _)| *n);
+        let mut p = Params { given: vec![false; values.len()], values };
         for (name, v) in given {
             let spec = find_spec(model, specs, name)?;
-            p.values.insert(spec.name, read(spec, v)?);
-            p.given.insert(spec.name);
+            let i = p.index(spec.name).expect("every spec has an entry");
+            p.values[i].1 = read(spec, v)?;
+            p.given[i] = true;
         }
         Ok(p)
+    }
+
+    /// The entry of parameter `name`. Models ask with the names their specs hold (the same
+    /// string constants), so the address usually finds it before any string is compared: a
+    /// textured material asks at every hit.
+    #[inline]
+    fn index(&self, name: &str) -> Option<usize> {
+        self.values
+            .iter()
+            .position(|(n, _)| std::ptr::eq(*n, name))
+            .or_else(|| self.values.binary_search_by(|(n, _)| (*n).cmp(name)).ok())
     }
 
     /// The resolved values in name order.
@@ -352,7 +367,7 @@ impl Params {
 
     /// The (name, value) pairs that were given, in name order.
     pub fn given(&self) -> impl Iterator<Item = (&'static str, &Value)> {
-        self.iter().filter(|(k, _)| self.given.contains(k))
+        self.values.iter().zip(&self.given).filter(|(_, &g)| g).map(|((k, v), _)| (*k, v))
     }
 }
 
@@ -371,11 +386,14 @@ pub fn find_spec<'s>(model: &str, specs: &'s [ParamSpec], name: &str) -> Result<
 
 impl ParamSource for Params {
     fn value(&self, name: &str) -> &Value {
-        self.values.get(name).unwrap_or_else(|| panic!("model asked for undeclared parameter '{name}'"))
+        match self.index(name) {
+            Some(i) => &self.values[i].1,
+            None => panic!("model asked for undeclared parameter '{name}'"),
+        }
     }
 
     fn was_given(&self, name: &str) -> bool {
-        self.given.contains(name)
+        self.index(name).is_some_and(|i| self.given[i])
     }
 }
 
