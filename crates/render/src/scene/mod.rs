@@ -191,9 +191,9 @@ const HAS_TRIANGLES: u32 = 1 << crate::bvh::PACK;
 /// callgrind on the bench scenes: one to five spheres and rectangles).
 const LINEAR_MAX: usize = 8;
 
-/// Up to this many triangles (four packs), testing all packs beats walking the BVH: on the
-/// Cornell box (38 triangles, three packs; the BVH's leaves hold six part-full packs) random
-/// rays find their closest hit 1.45× as fast.
+/// Up to this many triangles (four packs), a single ray tests all packs faster than it walks
+/// the BVH: in the Cornell box (38 triangles, three packs; the BVH's leaves hold six part-full
+/// packs) random rays find their closest hit 1.45× as fast.
 const FEW_TRIANGLES: usize = 4 * crate::bvh::PACK;
 
 /// A built scene.
@@ -247,7 +247,8 @@ impl Scene {
         self.refs.len()
     }
 
-    /// Whether rays test every primitive instead of walking the BVH (a scene of a few).
+    /// Whether single rays test every primitive instead of walking the BVH (a scene of few
+    /// primitives; packets of triangles still walk it).
     pub fn without_bvh(&self) -> bool {
         self.few.is_some()
     }

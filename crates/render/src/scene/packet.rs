@@ -36,7 +36,7 @@ impl Scene {
     }
 
     /// [`intersect_t_packet`](Self::intersect_t_packet) as a packet even when the rays are
-    /// incoherent (one at a time only for `Scalar` and scenes without a BVH).
+    /// incoherent (one at a time only for `Scalar` and scenes of a few analytic shapes).
     pub(crate) fn intersect_t_packet_as(&self, rays: &[Ray; LANES], active: u32, simd: Simd) -> PacketHits {
         if simd == Simd::Scalar || self.few.as_ref().is_some_and(|f| f.analytic_only()) {
             return std::array::from_fn(|i| if active >> i & 1 != 0 { self.intersect_t(&rays[i]) } else { None });

@@ -216,11 +216,17 @@ impl Bitmap {
     #[inline]
     fn texel(&self, x: i64, y: i64) -> Rgb {
         let (x, y) = (wrap(x, self.width, self.options.wrap), wrap(y, self.height, self.options.wrap));
-        let k = (y * self.width + x) * self.channels;
+        self.assemble((y * self.width + x) * self.channels, |k| self.value(k))
+    }
+
+    /// The texel whose first value is at `k`, as RGB (a grey texel in every channel),
+    /// `value(k)` reading one stored value.
+    #[inline(always)]
+    fn assemble(&self, k: usize, value: impl Fn(usize) -> f32) -> Rgb {
         if self.channels == 1 {
-            Rgb::splat(self.value(k))
+            Rgb::splat(value(k))
         } else {
-            Rgb::new(self.value(k), self.value(k + 1), self.value(k + 2))
+            Rgb::new(value(k), value(k + 1), value(k + 2))
         }
     }
 
@@ -281,13 +287,7 @@ impl Bitmap {
     /// Σ wᵢ·texelᵢ over the texels starting at `ks`, `value(k)` reading one stored value.
     #[inline(always)]
     fn bilinear(&self, ks: [usize; 4], w: [f32; 4], value: impl Fn(usize) -> f32) -> Rgb {
-        let texel = |k: usize| {
-            if self.channels == 1 {
-                Rgb::splat(value(k))
-            } else {
-                Rgb::new(value(k), value(k + 1), value(k + 2))
-            }
-        };
+        let texel = |k: usize| self.assemble(k, &value);
         texel(ks[0]) * w[0] + texel(ks[1]) * w[1] + texel(ks[2]) * w[2] + texel(ks[3]) * w[3]
     }
 
