@@ -125,7 +125,7 @@ fn trace_counted<const COUNT: bool>(c: &Contenders, which: usize, ray: &Ray, tes
 }
 
 const NAMES: [&str; ROWS] =
-    ["ours (SAH, 4-wide)", "obvhs BVH2 (PLOC)", "obvhs CWBVH (8-wide)", "ours, a leaf per test"];
+    ["ours (SAH, 8-wide)", "obvhs BVH2 (PLOC)", "obvhs CWBVH (8-wide)", "ours, a leaf per test"];
 
 fn timed<T>(f: impl FnOnce() -> T) -> (T, Duration) {
     let t = Instant::now();

@@ -100,8 +100,33 @@ impl Simd {
 
 /// Calls the `#[inline(always)]` method `$this.$method(args)` compiled for the instruction set
 /// `$simd` names: one copy per set is made here, the method inlined into a function with that
-/// set's target features (`Scalar` runs the baseline copy). `$ty` is `$this`'s type.
+/// set's target features (`Scalar` runs the baseline copy). `$ty` is `$this`'s type. In the
+/// form `$method::<AVX>(args)` the method takes a `const AVX: bool`, true in the AVX2 and
+/// AVX-512 copies, so that it may call AVX intrinsics there.
 macro_rules! dispatch {
+    ($simd:expr, $this:ident: $ty:ty, $method:ident::<AVX>($($a:ident: $t:ty),*) -> $r:ty) => {{
+        #[cfg(target_arch = "x86_64")]
+        {
+            #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma")]
+            unsafe fn avx512(this: &$ty, $($a: $t),*) -> $r {
+                this.$method::<true>($($a),*)
+            }
+            #[target_feature(enable = "avx2,fma")]
+            unsafe fn avx2(this: &$ty, $($a: $t),*) -> $r {
+                this.$method::<true>($($a),*)
+            }
+            match $simd {
+                // SAFETY: as below.
+                s @ $crate::simd::Simd::Avx512 if s.available() => unsafe { avx512($this, $($a),*) },
+                s @ $crate::simd::Simd::Avx2 if s.available() => unsafe { avx2($this, $($a),*) },
+                _ => $this.$method::<false>($($a),*),
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            $this.$method::<false>($($a),*)
+        }
+    }};
     ($simd:expr, $this:ident: $ty:ty, $method:ident($($a:ident: $t:ty),*) -> $r:ty) => {{
         #[cfg(target_arch = "x86_64")]
         {

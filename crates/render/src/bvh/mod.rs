@@ -1,8 +1,8 @@
-//! A four-wide bounding volume hierarchy. A binary tree is built by binned SAH, then
-//! collapsed to nodes of up to four children, each time opening the child of largest
+//! An eight-wide bounding volume hierarchy. A binary tree is built by binned SAH, then
+//! collapsed to nodes of up to eight children, each time opening the child of largest
 //! surface area (Wald, Benthin & Boulos, "Getting rid of packets", 2008; Dammertz et al.,
 //! "Shallow bounding volume hierarchies for fast SIMD ray tracing of incoherent rays", 2008).
-//! A node holds its children's boxes in SIMD lanes, so a ray meets all four at once; closest-hit
+//! A node holds its children's boxes in SIMD lanes, so a ray meets all eight at once; closest-hit
 //! traversal goes nearest child first and skips boxes entered beyond the best hit, any-hit
 //! traversal stops at the first hit.
 //!
@@ -23,18 +23,18 @@ use crate::ray::Ray;
 use crate::shape::Aabb;
 use build::{build_binary, BinaryNode, MAX_LEAF};
 use std::ops::Range;
-use wide::{leaf_packs, leaf_ref, Node4, RayBox, LEAF, MAX_LEAF_PACKS, MAX_PACKS};
+use wide::{leaf_packs, leaf_ref, Node, RayBox, LEAF, MAX_LEAF_PACKS, MAX_PACKS, WIDTH};
 
 const _: () = assert!(MAX_LEAF <= PACK * MAX_LEAF_PACKS, "a leaf must fit one leaf reference");
 
 /// Traversal stack entries kept on the call stack (cheap to zero); deeper trees use a
 /// heap stack.
-const STACK: usize = 32;
+const STACK: usize = 64;
 
 /// The hierarchy. Primitive `k` in BVH order is the caller's primitive `order[k]`.
 #[derive(Clone, Debug)]
 pub struct Bvh {
-    nodes: Vec<Node4>,
+    nodes: Vec<Node>,
     /// The root reference (node 0, or a leaf when everything fits one); unused when empty.
     root: u32,
     bounds: Aabb,
@@ -95,7 +95,7 @@ impl Bvh {
         let root = c.subtree(0, 0);
         c.pack_start.push(bounds.len() as u32);
         Bvh {
-            stack_need: 3 * c.depth + 1,
+            stack_need: (WIDTH - 1) * c.depth + 1,
             nodes: c.nodes,
             root,
             bounds: binary[0].bounds,
@@ -104,7 +104,7 @@ impl Bvh {
         }
     }
 
-    /// The number of (four-wide) nodes.
+    /// The number of (eight-wide) nodes.
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
@@ -159,7 +159,7 @@ impl Bvh {
     /// `leaf(packs, t_max)` tests the packs and lowers `t_max` to the closest hit.
     #[inline]
     pub fn walk_closest(&self, ray: &Ray, t_max: &mut f32, mut leaf: impl FnMut(Range<usize>, &mut f32)) {
-        self.walk::<false>(ray, t_max, &mut |packs: Range<usize>, t: &mut f32| {
+        self.walk::<false, false>(ray, t_max, &mut |packs: Range<usize>, t: &mut f32| {
             leaf(packs, t);
             Visit::Continue
         });
@@ -170,7 +170,7 @@ impl Bvh {
     #[inline]
     pub fn walk_any(&self, ray: &Ray, mut leaf: impl FnMut(Range<usize>) -> Visit) -> bool {
         let mut t_max = ray.t_max;
-        self.walk::<true>(ray, &mut t_max, &mut |packs: Range<usize>, _: &mut f32| leaf(packs))
+        self.walk::<true, false>(ray, &mut t_max, &mut |packs: Range<usize>, _: &mut f32| leaf(packs))
     }
 
     /// The traversal, calling `leaf` at the leaves reached. `ANY`: children in node order, no
@@ -178,7 +178,7 @@ impl Bvh {
     /// [`Visit::Stop`]; otherwise nearest child first, and popped boxes entered at or beyond
     /// `t_max` skipped.
     #[inline(always)]
-    pub fn walk<const ANY: bool>(&self, ray: &Ray, t_max: &mut f32, leaf: &mut impl Leaf) -> bool {
+    pub fn walk<const ANY: bool, const AVX: bool>(&self, ray: &Ray, t_max: &mut f32, leaf: &mut impl Leaf) -> bool {
         if self.order.is_empty() {
             return false;
         }
@@ -201,7 +201,7 @@ impl Bvh {
                 }
             } else {
                 let n = &self.nodes[cur as usize];
-                let (t_near, mut mask) = r.hit(n, *t_max);
+                let (t_near, mut mask) = r.hit::<AVX>(n, *t_max);
                 if mask != 0 {
                     let first = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
@@ -209,7 +209,7 @@ impl Bvh {
                         cur = n.child[first];
                         continue;
                     }
-                    let t = t_near.to_array();
+                    let t = t_near;
                     if ANY {
                         cur = n.child[first];
                         while mask != 0 {
@@ -221,7 +221,7 @@ impl Bvh {
                         continue;
                     }
                     // Push the hit children farthest first, so that the nearest is popped next:
-                    // an insertion sort of at most four entries onto the stack top.
+                    // an insertion sort of at most eight entries onto the stack top.
                     let base = sp;
                     stack[sp] = (n.child[first], t[first]);
                     sp += 1;
@@ -258,11 +258,11 @@ impl Bvh {
     }
 }
 
-/// Collapses the binary tree into four-wide nodes, in depth-first order, and cuts its
+/// Collapses the binary tree into eight-wide nodes, in depth-first order, and cuts its
 /// leaves into packs in BVH order.
 struct Collapse<'a> {
     binary: &'a [BinaryNode],
-    nodes: Vec<Node4>,
+    nodes: Vec<Node>,
     pack_start: Vec<u32>,
     /// The deepest node level reached below the root.
     depth: usize,
@@ -279,9 +279,9 @@ impl Collapse<'_> {
             return leaf_ref(first, self.pack_start.len() - first);
         }
         self.depth = self.depth.max(depth + 1);
-        // Open the largest interior child until there are four (children stay in BVH order).
+        // Open the largest interior child until there are eight (children stay in BVH order).
         let mut kids = vec![b + 1, node.offset as usize];
-        while kids.len() < 4 {
+        while kids.len() < WIDTH {
             let open = (0..kids.len()).filter(|&i| self.binary[kids[i]].count == 0).max_by(|&i, &j| {
                 self.binary[kids[i]].bounds.half_area().total_cmp(&self.binary[kids[j]].bounds.half_area())
             });
@@ -290,7 +290,7 @@ impl Collapse<'_> {
             kids.splice(i..=i, [c + 1, self.binary[c].offset as usize]);
         }
         let idx = self.nodes.len();
-        self.nodes.push(Node4::EMPTY);
+        self.nodes.push(Node::EMPTY);
         for (lane, &c) in kids.iter().enumerate() {
             let r = self.subtree(c, depth + 1);
             let bb = self.binary[c].bounds;
@@ -327,7 +327,7 @@ mod tree_tests {
             return;
         }
         let n = &bvh.nodes[r as usize];
-        for lane in 0..4 {
+        for lane in 0..WIDTH {
             let bb = Aabb {
                 min: Vec3::new(n.b[0][0][lane], n.b[0][1][lane], n.b[0][2][lane]),
                 max: Vec3::new(n.b[1][0][lane], n.b[1][1][lane], n.b[1][2][lane]),

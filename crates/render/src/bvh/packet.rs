@@ -1,4 +1,4 @@
-//! Packet traversal: sixteen rays walk the hierarchy together, each node's four boxes tested
+//! Packet traversal: sixteen rays walk the hierarchy together, each node's eight boxes tested
 //! against every live ray at once (Wald, Slusallek, Benthin & Wagner, "Interactive rendering
 //! with coherent ray tracing", 2001; masked for the rays a subtree can still matter to, as in
 //! Wald et al., "Ray tracing deformable scenes using dynamic bounding volume hierarchies",
@@ -6,7 +6,7 @@
 //! light) share their nodes, so one box test serves many rays. Each lane's slab test does the
 //! operations of the single-ray [`RayBox`](super::wide::RayBox), so no ray loses a box it meets.
 
-use super::wide::{inverse_direction, leaf_packs, Node4, LEAF};
+use super::wide::{inverse_direction, leaf_packs, Node, LEAF, WIDTH};
 use super::{Bvh, STACK};
 use crate::ray::Ray;
 use crate::simd::{F16, LANES, M16};
@@ -56,7 +56,7 @@ impl RayPacket {
     /// Entry distances of every lane into child `c` of `n`, and the lanes of `live` that meet
     /// it within [0, `t_max`].
     #[inline(always)]
-    fn hit(&self, n: &Node4, c: usize, t_max: &F16, live: M16) -> (F16, M16) {
+    fn hit(&self, n: &Node, c: usize, t_max: &F16, live: M16) -> (F16, M16) {
         let mut t_near = F16::splat(0.0);
         let mut t_far = *t_max;
         for a in 0..3 {
@@ -119,7 +119,7 @@ impl Bvh {
                 } else {
                     let n = &self.nodes[cur as usize];
                     let base = sp;
-                    for c in 0..4 {
+                    for c in 0..WIDTH {
                         if n.child[c] == 0 {
                             continue;
                         }

@@ -1,4 +1,4 @@
-//! Four-wide nodes and the ray's test against their four child boxes at once: the slab
+//! Eight-wide nodes and the ray's test against their eight child boxes at once: the slab
 //! test (Kay & Kajiya 1986) on SIMD lanes, the near and far planes chosen once per ray by
 //! the direction's signs (Williams et al., "An efficient and robust ray-box intersection
 //! algorithm", JGT 2005), with the far distances enlarged by 2γ₃ so that rounding never
@@ -31,21 +31,25 @@ pub(super) fn leaf_packs(r: u32) -> std::ops::Range<usize> {
     first..first + (r & (MAX_LEAF_PACKS as u32 - 1)) as usize + 1
 }
 
-/// A node: four child boxes as structure-of-arrays lanes, and the four children. Two
-/// cache lines.
+/// Children per node: eight boxes fill one AVX register (two SSE ones), and the tree is
+/// shallower than a four-wide one.
+pub(super) const WIDTH: usize = 8;
+
+/// A node: its child boxes as structure-of-arrays lanes, and the children. Four cache lines.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
-pub(super) struct Node4 {
+pub(super) struct Node {
     /// `b[0]` lower and `b[1]` upper corners, by axis, one child per lane; an unused lane
     /// holds the empty box (lower +∞, upper −∞), which no ray meets.
-    pub b: [[Vec4; 3]; 2],
+    pub b: [[[f32; WIDTH]; 3]; 2],
     /// Child references (node index, or [`LEAF`]-tagged pack range); unused lanes are 0.
-    pub child: [u32; 4],
+    pub child: [u32; WIDTH],
 }
 
-impl Node4 {
+impl Node {
     /// A node with no children yet.
-    pub const EMPTY: Node4 = Node4 { b: [[Vec4::INFINITY; 3], [Vec4::NEG_INFINITY; 3]], child: [0; 4] };
+    pub const EMPTY: Node =
+        Node { b: [[[f32::INFINITY; WIDTH]; 3], [[f32::NEG_INFINITY; WIDTH]; 3]], child: [0; WIDTH] };
 }
 
 /// Direction components smaller than this are replaced by it (keeping the sign), so that
@@ -65,13 +69,13 @@ pub(super) fn inverse_direction(d: glam::Vec3) -> (Vec3A, Vec3A) {
     (inv, inv * FAR_SCALE)
 }
 
-/// A ray prepared for box tests: origin and inverse direction splatted over the lanes, and
-/// which corner (0 lower, 1 upper) is the near one on each axis.
+/// A ray prepared for box tests: origin and inverse direction, and which corner (0 lower,
+/// 1 upper) is the near one on each axis.
 #[derive(Clone, Copy)]
 pub(super) struct RayBox {
-    o: [Vec4; 3],
-    inv: [Vec4; 3],
-    inv_far: [Vec4; 3],
+    o: [f32; 3],
+    inv: [f32; 3],
+    inv_far: [f32; 3],
     /// Bit a set when the direction's axis a is negative.
     neg: u32,
 }
@@ -80,27 +84,72 @@ impl RayBox {
     #[inline]
     pub fn new(ray: &Ray) -> Self {
         let (inv, far) = inverse_direction(ray.d);
-        let s = Vec4::splat;
-        RayBox {
-            o: [s(ray.o.x), s(ray.o.y), s(ray.o.z)],
-            inv: [s(inv.x), s(inv.y), s(inv.z)],
-            inv_far: [s(far.x), s(far.y), s(far.z)],
-            neg: inv.is_negative_bitmask(),
-        }
+        RayBox { o: ray.o.to_array(), inv: inv.to_array(), inv_far: far.to_array(), neg: inv.is_negative_bitmask() }
     }
 
-    /// Entry distances into the four child boxes, and the mask (bit i for lane i) of those
-    /// the ray meets within [0, `t_max`].
+    /// Entry distances into the child boxes, and the mask (bit i for lane i) of those the ray
+    /// meets within [0, `t_max`]. `AVX`: in one AVX register, which only code compiled for
+    /// AVX2 or AVX-512 may ask for (see `dispatch!`'s `::<AVX>` form); otherwise in two SSE
+    /// halves (plain lanes off x86_64). Every form does the same IEEE operations per lane.
     #[inline(always)]
-    pub fn hit(&self, n: &Node4, t_max: f32) -> (Vec4, u32) {
-        let mut t_near = Vec4::ZERO;
-        let mut t_far = Vec4::splat(t_max);
+    pub fn hit<const AVX: bool>(&self, n: &Node, t_max: f32) -> ([f32; WIDTH], u32) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if AVX {
+                // SAFETY: `AVX` is set only in walks compiled for AVX2 or AVX-512, which
+                // `dispatch!` runs after checking that the CPU has them.
+                return unsafe { self.hit_avx(n, t_max) };
+            }
+            self.hit_halves(n, t_max)
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        self.hit_halves(n, t_max)
+    }
+
+    /// [`hit`](Self::hit) in four-lane halves (SSE2 on x86_64, NEON on aarch64).
+    #[inline(always)]
+    fn hit_halves(&self, n: &Node, t_max: f32) -> ([f32; WIDTH], u32) {
+        let mut out = [0.0; WIDTH];
+        let mut mask = 0;
+        for h in 0..WIDTH / 4 {
+            let lanes = |v: &[f32; WIDTH]| Vec4::from_slice(&v[4 * h..4 * h + 4]);
+            let mut t_near = Vec4::ZERO;
+            let mut t_far = Vec4::splat(t_max);
+            for a in 0..3 {
+                let s = (self.neg >> a) as usize & 1;
+                let o = Vec4::splat(self.o[a]);
+                t_near = t_near.max((lanes(&n.b[s][a]) - o) * Vec4::splat(self.inv[a]));
+                t_far = t_far.min((lanes(&n.b[s ^ 1][a]) - o) * Vec4::splat(self.inv_far[a]));
+            }
+            t_near.write_to_slice(&mut out[4 * h..4 * h + 4]);
+            mask |= t_near.cmple(t_far).bitmask() << (4 * h);
+        }
+        (out, mask)
+    }
+
+    /// [`hit`](Self::hit) in one AVX register. LLVM does not vectorise the lane loops of the
+    /// halves to eight lanes (the mask's bit packing splits them), hence the intrinsics.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    #[inline]
+    unsafe fn hit_avx(&self, n: &Node, t_max: f32) -> ([f32; WIDTH], u32) {
+        use std::arch::x86_64::*;
+        let mut t_near = _mm256_setzero_ps();
+        let mut t_far = _mm256_set1_ps(t_max);
         for a in 0..3 {
             let s = (self.neg >> a) as usize & 1;
-            t_near = t_near.max((n.b[s][a] - self.o[a]) * self.inv[a]);
-            t_far = t_far.min((n.b[s ^ 1][a] - self.o[a]) * self.inv_far[a]);
+            let o = _mm256_set1_ps(self.o[a]);
+            // SAFETY: each row holds `WIDTH` = 8 floats.
+            let (near, far) = unsafe { (_mm256_loadu_ps(n.b[s][a].as_ptr()), _mm256_loadu_ps(n.b[s ^ 1][a].as_ptr())) };
+            // max/min with the running value first, as SSE's `Vec4::max`/`min` order them.
+            t_near = _mm256_max_ps(t_near, _mm256_mul_ps(_mm256_sub_ps(near, o), _mm256_set1_ps(self.inv[a])));
+            t_far = _mm256_min_ps(t_far, _mm256_mul_ps(_mm256_sub_ps(far, o), _mm256_set1_ps(self.inv_far[a])));
         }
-        (t_near, t_near.cmple(t_far).bitmask())
+        let mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t_near, t_far)) as u32;
+        let mut out = [0.0f32; WIDTH];
+        // SAFETY: `out` holds 8 floats.
+        unsafe { _mm256_storeu_ps(out.as_mut_ptr(), t_near) };
+        (out, mask)
     }
 }
 
@@ -120,7 +169,7 @@ mod tests {
 
     #[test]
     fn slab_test_lanes() {
-        let mut n = Node4::EMPTY;
+        let mut n = Node::EMPTY;
         // Lane 0: unit box at x ∈ [2, 3]; lane 1: box behind the origin; lane 2: a box whose
         // lower y face holds the ray (d.y = +0 counts as inside); lane 3 stays empty.
         let boxes = [
@@ -135,16 +184,65 @@ mod tests {
             }
         }
         let r = RayBox::new(&Ray::new(Vec3::new(0.0, 0.0, 0.0), Vec3::X));
-        let (t, m) = r.hit(&n, f32::INFINITY);
+        let (t, m) = r.hit::<false>(&n, f32::INFINITY);
         assert_eq!(m, 0b101);
         assert_eq!((t[0], t[2]), (2.0, 4.0));
         // t_max before the box: missed.
-        assert_eq!(r.hit(&n, 1.5).1, 0);
+        assert_eq!(r.hit::<false>(&n, 1.5).1, 0);
         // Negative direction meets lane 1 only.
-        let (t, m) = RayBox::new(&Ray::new(Vec3::ZERO, -Vec3::X)).hit(&n, f32::INFINITY);
+        let (t, m) = RayBox::new(&Ray::new(Vec3::ZERO, -Vec3::X)).hit::<false>(&n, f32::INFINITY);
         assert_eq!((m, t[1]), (0b10, 2.0));
         // An origin inside a box enters it at 0.
-        let (t, m) = RayBox::new(&Ray::new(Vec3::new(2.5, 0.0, 0.0), Vec3::Y)).hit(&n, f32::INFINITY);
+        let (t, m) = RayBox::new(&Ray::new(Vec3::new(2.5, 0.0, 0.0), Vec3::Y)).hit::<false>(&n, f32::INFINITY);
         assert_eq!((m, t[0]), (1, 0.0));
+        // The upper half of the lanes is tested too.
+        for a in 0..3 {
+            (n.b[0][a][6], n.b[1][a][6]) = (n.b[0][a][0], n.b[1][a][0]);
+        }
+        assert_eq!(r.hit::<false>(&n, f32::INFINITY).1, 0b100_0101);
+    }
+
+    #[test]
+    fn the_avx_and_the_sse_test_agree_on_every_lane() {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if !std::arch::is_x86_feature_detected!("avx") {
+                eprintln!("no AVX on this CPU: only the SSE form is tested");
+                return;
+            }
+            let mut s = crate::sampler::Sampler::new(9, 0, 0);
+            let mut v =
+                |scale: f32| Vec3::new(s.next_1d(), s.next_1d(), s.next_1d()) * 2.0 * scale - Vec3::splat(scale);
+            let mut hits = 0;
+            for i in 0..20_000 {
+                let mut n = Node::EMPTY;
+                // Lanes past `used` stay empty, as in a node of fewer children.
+                let used = 1 + i % WIDTH;
+                for lane in 0..used {
+                    let (c, h) = (v(3.0), v(1.0).abs());
+                    for a in 0..3 {
+                        (n.b[0][a][lane], n.b[1][a][lane]) = (c[a] - h[a], c[a] + h[a]);
+                    }
+                }
+                // Half the rays aimed near the first box, so that hits are common.
+                let o = v(4.0);
+                let centre =
+                    Vec3::new(n.b[0][0][0] + n.b[1][0][0], n.b[0][1][0] + n.b[1][1][0], n.b[0][2][0] + n.b[1][2][0])
+                        * 0.5;
+                let mut d = if i % 2 == 0 { centre + v(0.5) - o } else { v(1.0) };
+                if i % 5 == 0 {
+                    d[i % 3] = 0.0; // a zero component: the MIN_DIRECTION guard
+                }
+                let r = RayBox::new(&Ray::new(o, d));
+                let t_max = if i % 3 == 0 { 4.0 } else { f32::INFINITY };
+                let (ts, ms) = r.hit::<false>(&n, t_max);
+                // SAFETY: the CPU has AVX (checked above).
+                let (ta, ma) = unsafe { r.hit_avx(&n, t_max) };
+                assert_eq!(ms, ma, "ray {i}");
+                assert_eq!(ts.map(f32::to_bits), ta.map(f32::to_bits), "ray {i}");
+                hits += ms.count_ones();
+            }
+            assert!(hits > 5_000, "the test must exercise hits: {hits}");
+        }
     }
 }

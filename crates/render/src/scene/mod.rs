@@ -278,7 +278,7 @@ impl Scene {
         if let Some(few) = &self.few {
             return dispatch!(self.simd, self: Scene, intersect_t_few(few: &few::Few, ray: &Ray) -> Option<(usize, f32)>);
         }
-        dispatch!(self.simd, self: Scene, closest_walk(ray: &Ray) -> Option<(usize, f32)>)
+        dispatch!(self.simd, self: Scene, closest_walk::<AVX>(ray: &Ray) -> Option<(usize, f32)>)
     }
 
     /// The closest hit by testing every primitive (no BVH): the reference the BVH is tested
@@ -308,7 +308,7 @@ impl Scene {
         if let Some(few) = &self.few {
             return dispatch!(self.simd, self: Scene, occluded_few(few: &few::Few, ray: &Ray, skip: Option<u32>) -> bool);
         }
-        dispatch!(self.simd, self: Scene, any_walk(ray: &Ray, skip: Option<u32>) -> bool)
+        dispatch!(self.simd, self: Scene, any_walk::<AVX>(ray: &Ray, skip: Option<u32>) -> bool)
     }
 
     /// True when the light sample `ls` is unobstructed from surface point `p` (geometric

@@ -82,17 +82,17 @@ impl Leaf for Any<'_> {
 impl Scene {
     /// The closest hit through the BVH as (BVH-ordered primitive, distance).
     #[inline(always)]
-    pub(super) fn closest_walk(&self, ray: &Ray) -> Option<(usize, f32)> {
+    pub(super) fn closest_walk<const AVX: bool>(&self, ray: &Ray) -> Option<(usize, f32)> {
         let mut leaf = Closest { scene: self, ray, best: None };
         let mut t_max = ray.t_max;
-        self.bvh.walk::<false>(ray, &mut t_max, &mut leaf);
+        self.bvh.walk::<false, AVX>(ray, &mut t_max, &mut leaf);
         leaf.best.map(|(p, lane, t)| (self.bvh.pack(p).start + lane, t))
     }
 
     /// True when something other than shape `skip`'s analytic primitives lies along the ray.
     #[inline(always)]
-    pub(super) fn any_walk(&self, ray: &Ray, skip: Option<u32>) -> bool {
+    pub(super) fn any_walk<const AVX: bool>(&self, ray: &Ray, skip: Option<u32>) -> bool {
         let mut t_max = ray.t_max;
-        self.bvh.walk::<true>(ray, &mut t_max, &mut Any { scene: self, ray, skip })
+        self.bvh.walk::<true, AVX>(ray, &mut t_max, &mut Any { scene: self, ray, skip })
     }
 }
