@@ -104,51 +104,37 @@ impl Simd {
 /// form `$method::<AVX>(args)` the method takes a `const AVX: bool`, true in the AVX2 and
 /// AVX-512 copies, so that it may call AVX intrinsics there.
 macro_rules! dispatch {
-    ($simd:expr, $this:ident: $ty:ty, $method:ident::<AVX>($($a:ident: $t:ty),*) -> $r:ty) => {{
+    ($simd:expr, $this:ident: $ty:ty, $method:ident::<AVX>($($a:ident: $t:ty),*) -> $r:ty) => {
+        $crate::simd::dispatch!(@copies $simd, $this: $ty, $method, [::<true>], [::<false>], ($($a: $t),*) -> $r)
+    };
+    ($simd:expr, $this:ident: $ty:ty, $method:ident($($a:ident: $t:ty),*) -> $r:ty) => {
+        $crate::simd::dispatch!(@copies $simd, $this: $ty, $method, [], [], ($($a: $t),*) -> $r)
+    };
+    // The copies, the AVX2 and AVX-512 ones calling `$method $($wide)*`, the baseline one
+    // `$method $($base)*`.
+    (@copies $simd:expr, $this:ident: $ty:ty, $method:ident, [$($wide:tt)*], [$($base:tt)*],
+        ($($a:ident: $t:ty),*) -> $r:ty) => {{
         #[cfg(target_arch = "x86_64")]
         {
             #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma")]
             unsafe fn avx512(this: &$ty, $($a: $t),*) -> $r {
-                this.$method::<true>($($a),*)
+                this.$method $($wide)* ($($a),*)
             }
             #[target_feature(enable = "avx2,fma")]
             unsafe fn avx2(this: &$ty, $($a: $t),*) -> $r {
-                this.$method::<true>($($a),*)
-            }
-            match $simd {
-                // SAFETY: as below.
-                s @ $crate::simd::Simd::Avx512 if s.available() => unsafe { avx512($this, $($a),*) },
-                s @ $crate::simd::Simd::Avx2 if s.available() => unsafe { avx2($this, $($a),*) },
-                _ => $this.$method::<false>($($a),*),
-            }
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        {
-            $this.$method::<false>($($a),*)
-        }
-    }};
-    ($simd:expr, $this:ident: $ty:ty, $method:ident($($a:ident: $t:ty),*) -> $r:ty) => {{
-        #[cfg(target_arch = "x86_64")]
-        {
-            #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma")]
-            unsafe fn avx512(this: &$ty, $($a: $t),*) -> $r {
-                this.$method($($a),*)
-            }
-            #[target_feature(enable = "avx2,fma")]
-            unsafe fn avx2(this: &$ty, $($a: $t),*) -> $r {
-                this.$method($($a),*)
+                this.$method $($wide)* ($($a),*)
             }
             match $simd {
                 // SAFETY: the guards check that the CPU has the features (a cached flag test:
                 // `Simd`'s variants can be named by anyone, so being given one proves nothing).
                 s @ $crate::simd::Simd::Avx512 if s.available() => unsafe { avx512($this, $($a),*) },
                 s @ $crate::simd::Simd::Avx2 if s.available() => unsafe { avx2($this, $($a),*) },
-                _ => $this.$method($($a),*),
+                _ => $this.$method $($base)* ($($a),*),
             }
         }
         #[cfg(not(target_arch = "x86_64"))]
         {
-            $this.$method($($a),*)
+            $this.$method $($base)* ($($a),*)
         }
     }};
 }

@@ -201,7 +201,7 @@ impl Bvh {
                 }
             } else {
                 let n = &self.nodes[cur as usize];
-                let (t_near, mut mask) = r.hit::<AVX>(n, *t_max);
+                let (t, mut mask) = r.hit::<AVX>(n, *t_max);
                 if mask != 0 {
                     let first = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
@@ -209,7 +209,6 @@ impl Bvh {
                         cur = n.child[first];
                         continue;
                     }
-                    let t = t_near;
                     if ANY {
                         cur = n.child[first];
                         while mask != 0 {
