@@ -313,10 +313,8 @@ pub trait ParamSource {
 /// Resolved parameter values: every parameter of a model, given or defaulted, range-checked.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Params {
-    /// Every parameter's value, in name order.
-    values: Vec<(&'static str, Value)>,
-    /// Per entry of `values`, whether it was given.
-    given: Vec<bool>,
+    /// Every parameter's name, value and whether it was given, in name order.
+    values: Vec<(&'static str, Value, bool)>,
 }
 
 impl Params {
@@ -336,15 +334,14 @@ impl Params {
         given: impl Iterator<Item = (&'g str, T)>,
         read: impl Fn(&ParamSpec, T) -> Result<Value, ParamError>,
     ) -> Result<Params, ParamError> {
-        let mut values: Vec<(&'static str, Value)> = specs.iter().map(|s| (s.name, s.default.clone())).collect();
-        values.sort_by_key(|(n, _)| *n);
-        values.dedup_by_key(|(n, _)| *n);
-        let mut p = Params { given: vec![false; values.len()], values };
+        let mut values: Vec<_> = specs.iter().map(|s| (s.name, s.default.clone(), false)).collect();
+        values.sort_by_key(|e| e.0);
+        values.dedup_by_key(|e| e.0);
+        let mut p = Params { values };
         for (name, v) in given {
             let spec = find_spec(model, specs, name)?;
             let i = p.index(spec.name).expect("every spec has an entry");
-            p.values[i].1 = read(spec, v)?;
-            p.given[i] = true;
+            p.values[i] = (spec.name, read(spec, v)?, true);
         }
         Ok(p)
     }
@@ -356,18 +353,18 @@ impl Params {
     fn index(&self, name: &str) -> Option<usize> {
         self.values
             .iter()
-            .position(|(n, _)| std::ptr::eq(*n, name))
-            .or_else(|| self.values.binary_search_by(|(n, _)| (*n).cmp(name)).ok())
+            .position(|e| std::ptr::eq(e.0, name))
+            .or_else(|| self.values.binary_search_by(|e| e.0.cmp(name)).ok())
     }
 
     /// The resolved values in name order.
     pub fn iter(&self) -> impl Iterator<Item = (&'static str, &Value)> {
-        self.values.iter().map(|(k, v)| (*k, v))
+        self.values.iter().map(|(k, v, _)| (*k, v))
     }
 
     /// The (name, value) pairs that were given, in name order.
     pub fn given(&self) -> impl Iterator<Item = (&'static str, &Value)> {
-        self.values.iter().zip(&self.given).filter(|(_, &g)| g).map(|((k, v), _)| (*k, v))
+        self.values.iter().filter(|e| e.2).map(|(k, v, _)| (*k, v))
     }
 }
 
@@ -393,7 +390,7 @@ impl ParamSource for Params {
     }
 
     fn was_given(&self, name: &str) -> bool {
-        self.index(name).is_some_and(|i| self.given[i])
+        self.index(name).is_some_and(|i| self.values[i].2)
     }
 }
 
