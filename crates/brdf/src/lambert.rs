@@ -53,6 +53,10 @@ impl Brdf for Lambert {
     fn phong_terms(&self) -> Option<PhongTerms> {
         Some(PhongTerms::diffuse(self.albedo))
     }
+
+    fn lambertian(&self) -> Option<Rgb> {
+        Some(self.albedo)
+    }
 }
 
 fn params() -> Vec<ParamSpec> {

@@ -110,6 +110,12 @@ pub trait Brdf: Send + Sync + std::fmt::Debug {
     fn phong_terms(&self) -> Option<PhongTerms> {
         None
     }
+
+    /// The albedo when this is Lambert's model (ρ = albedo/π), so that an integrator may shade
+    /// it many points at a time.
+    fn lambertian(&self) -> Option<Rgb> {
+        None
+    }
 }
 
 /// A model of any kind, owned.
@@ -156,6 +162,9 @@ macro_rules! forward_brdf {
             }
             fn phong_terms(&self) -> Option<PhongTerms> {
                 (**self).phong_terms()
+            }
+            fn lambertian(&self) -> Option<Rgb> {
+                (**self).lambertian()
             }
         }
     )*};

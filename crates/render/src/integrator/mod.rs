@@ -4,6 +4,7 @@ pub mod direct;
 mod packet;
 pub mod path;
 pub mod phong;
+mod wide;
 
 use crate::ray::Ray;
 use crate::sampler::Sampler;
@@ -84,15 +85,18 @@ pub(crate) fn finite(c: Rgb) -> Rgb {
 /// against one of density `b`, one sample each.
 #[inline]
 pub fn power_heuristic(a: f32, b: f32) -> f32 {
-    if a.is_nan() || a <= 0.0 {
-        return 0.0;
-    }
-    if a.is_infinite() {
-        return if b.is_infinite() { 0.5 } else { 1.0 };
-    }
     // As a ratio, so that tiny or huge densities neither underflow nor overflow.
     let r = if b > 0.0 { b / a } else { 0.0 };
-    1.0 / (1.0 + r * r)
+    let w = 1.0 / (1.0 + r * r);
+    // Selections rather than early returns: a loop over many lanes of this becomes vector code.
+    let at_infinity = if b.is_infinite() { 0.5 } else { 1.0 };
+    let w = if a.is_infinite() { at_infinity } else { w };
+    // Zero for a ≤ 0 and for NaN.
+    if a > 0.0 {
+        w
+    } else {
+        0.0
+    }
 }
 
 #[cfg(test)]

@@ -80,6 +80,13 @@ impl Integrator {
             return out;
         }
         let hits = scene.intersect_t_packet(rays, active, scene.simd());
+        if let (Integrator::Path { max_depth, rr_depth, hide_emitters: false }, Some(diffuse)) =
+            (*self, scene.diffuse_meshes())
+        {
+            let l = diffuse.li(scene, rays, &hits, samplers, active, max_depth, rr_depth);
+            for_bits(active, |i| out[i] = finite(l[i]));
+            return out;
+        }
         let mut queue = ShadowQueue::new(scene);
         let mut unlit = [Rgb::ZERO; LANES];
         for_bits(active, |i| {

@@ -1,11 +1,13 @@
 //! A scene: a camera, shapes each with a material (and optionally an emission), lights, and
 //! the BVH over every primitive. Built once with [`SceneBuilder`], then only read.
 
+mod diffuse;
 mod few;
 mod light_choice;
 mod packet;
 mod walk;
 
+pub(crate) use diffuse::DiffuseMeshes;
 pub use packet::{lanes_of, PacketHits};
 
 use crate::bvh::{Bvh, Tri16};
@@ -167,6 +169,7 @@ impl SceneBuilder {
         });
         let environment = lights.iter().position(Light::is_environment);
         let light_bounds = light_choice::bounds(&lights, &shapes);
+        let diffuse = diffuse::DiffuseMeshes::of(&shapes, &lights);
         Ok(Scene {
             camera,
             shapes,
@@ -179,6 +182,7 @@ impl SceneBuilder {
             others,
             few,
             refs,
+            diffuse,
             simd: Simd::detect(),
         })
     }
@@ -216,6 +220,8 @@ pub struct Scene {
     few: Option<few::Few>,
     /// (shape, primitive within the shape) per BVH-ordered primitive.
     refs: Vec<(u32, u32)>,
+    /// Set when the batch path integrator can render the scene.
+    diffuse: Option<diffuse::DiffuseMeshes>,
     /// The instruction set single-ray queries are compiled for.
     simd: Simd,
 }
@@ -362,6 +368,24 @@ impl Scene {
             Geometry::Disk(dk) => dk.surface(ray.at(t)),
         };
         SurfaceInteraction::new(t, &surface, shape as usize)
+    }
+
+    /// The (shape, primitive within the shape) of BVH-ordered primitive `k`.
+    #[inline]
+    pub(crate) fn primitive(&self, k: usize) -> (u32, u32) {
+        self.refs[k]
+    }
+
+    /// The geometry of shape `shape`.
+    #[inline]
+    pub(crate) fn geometry(&self, shape: usize) -> &Geometry {
+        &self.shapes[shape].geometry
+    }
+
+    /// What the batch path integrator needs, when it can render the scene.
+    #[inline]
+    pub(crate) fn diffuse_meshes(&self) -> Option<&diffuse::DiffuseMeshes> {
+        self.diffuse.as_ref()
     }
 
     /// The material of shape `shape`.

@@ -305,9 +305,15 @@ impl TriangleMesh {
         SurfacePoint { p, ng: ng * s, ns: ns * s, uv, dp_du, dp_dv }
     }
 
+    /// The triangle `sample_area(uc, _)` places its point on: chosen in proportion to area.
+    #[inline]
+    pub fn sampled_triangle(&self, uc: f32) -> usize {
+        self.area.sample(uc).0
+    }
+
     /// A point uniformly distributed over the mesh surface, with its area pdf.
     pub fn sample_area(&self, uc: f32, u: Vec2) -> (SurfacePoint, f32) {
-        let (i, _, _) = self.area.sample(uc);
+        let i = self.sampled_triangle(uc);
         let su = u.x.sqrt();
         let (b1, b2) = (su * (1.0 - u.y), su * u.y);
         (self.surface(i, b1, b2), 1.0 / self.area().max(f32::MIN_POSITIVE))

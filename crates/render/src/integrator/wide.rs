@@ -1,0 +1,543 @@
+//! Sixteen paths at once, their state in structure-of-arrays form, for the scenes of
+//! [`DiffuseMeshes`]: Lambertian triangle meshes lit by one area light. Each step of the path
+//! loop runs over all lanes together: the triangles' corners are gathered in one pass, then
+//! the arithmetic of the hit point, its frame, the light sample, the BRDF and the throughput
+//! runs in loops over the lanes, which the compiler turns into vector code; the shadow rays of
+//! a step go out as one packet. A lane stops computing once its path ends (its arithmetic
+//! still runs, masked out).
+//!
+//! Every lane makes the computations, in the same order and with the same functions, that
+//! [`path::trace`](super::path::trace) makes for its path, so the estimates are the same bit for
+//! bit (a test compares them); only how they are scheduled differs.
+
+use super::power_heuristic;
+use crate::ray::{spawn_ray_to, surface_epsilon, Ray};
+use crate::sampler::Sampler;
+use crate::scene::{DiffuseMeshes, PacketHits, Scene};
+use crate::shape::{Geometry, TriangleMesh};
+use crate::simd::{dispatch, LANES};
+use glam::{Vec2, Vec3};
+use radiometry::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
+use radiometry::{Frame, Rgb};
+use std::f32::consts::FRAC_1_PI;
+
+const N: usize = LANES;
+
+/// Three numbers per lane: a point, a direction or an RGB value.
+#[derive(Clone, Copy)]
+struct V3 {
+    x: [f32; N],
+    y: [f32; N],
+    z: [f32; N],
+}
+
+impl V3 {
+    const ZERO: V3 = V3::splat(0.0);
+
+    const fn splat(v: f32) -> V3 {
+        V3 { x: [v; N], y: [v; N], z: [v; N] }
+    }
+
+    #[inline(always)]
+    fn get(&self, i: usize) -> Vec3 {
+        Vec3::new(self.x[i], self.y[i], self.z[i])
+    }
+
+    #[inline(always)]
+    fn set(&mut self, i: usize, v: Vec3) {
+        (self.x[i], self.y[i], self.z[i]) = (v.x, v.y, v.z);
+    }
+
+    #[inline(always)]
+    fn rgb(&self, i: usize) -> Rgb {
+        Rgb::new(self.x[i], self.y[i], self.z[i])
+    }
+
+    #[inline(always)]
+    fn set_rgb(&mut self, i: usize, c: Rgb) {
+        (self.x[i], self.y[i], self.z[i]) = (c.0[0], c.0[1], c.0[2]);
+    }
+}
+
+/// The uniform numbers of one vertex per lane, drawn as `path`'s vertices draw them.
+struct Numbers {
+    /// The light's triangle.
+    uc2: [f32; N],
+    /// The point on it.
+    u: [Vec2; N],
+    /// The BRDF sample.
+    bu: [Vec2; N],
+}
+
+/// Draws a vertex's numbers from each lane's sampler (the light choice's and the BRDF lobe's
+/// are drawn and unused: one light, one lobe).
+#[inline(always)]
+fn draw(samplers: &mut [Sampler; N]) -> Numbers {
+    let mut n = Numbers { uc2: [0.0; N], u: [Vec2::ZERO; N], bu: [Vec2::ZERO; N] };
+    for (i, s) in samplers.iter_mut().enumerate() {
+        let _choice = s.next_1d();
+        n.uc2[i] = s.next_1d();
+        n.u[i].x = s.next_1d();
+        n.u[i].y = s.next_1d();
+        let _lobe = s.next_1d();
+        n.bu[i].x = s.next_1d();
+        n.bu[i].y = s.next_1d();
+    }
+    n
+}
+
+/// The lanes of `mask`, lowest first.
+struct Bits(u32);
+
+impl Iterator for Bits {
+    type Item = usize;
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        (self.0 != 0).then(|| {
+            let i = self.0.trailing_zeros() as usize;
+            self.0 &= self.0 - 1;
+            i
+        })
+    }
+}
+
+/// A triangle's corners, vertex normals (zero when flat), flip sign and albedo, per lane.
+struct Corners {
+    p: [V3; 3],
+    n: [V3; 3],
+    /// With vertex normals.
+    smooth: [bool; N],
+    /// −1 for a mesh with flipped normals, else 1.
+    sign: [f32; N],
+}
+
+impl Corners {
+    fn new() -> Self {
+        Corners { p: [V3::ZERO; 3], n: [V3::ZERO; 3], smooth: [false; N], sign: [1.0; N] }
+    }
+
+    /// Loads triangle `t` of mesh `m` into lane `i`.
+    #[inline(always)]
+    fn load(&mut self, i: usize, m: &TriangleMesh, t: usize) {
+        let [a, b, c] = m.indices[t].map(|k| k as usize);
+        self.p[0].set(i, m.positions[a]);
+        self.p[1].set(i, m.positions[b]);
+        self.p[2].set(i, m.positions[c]);
+        self.smooth[i] = m.normals.is_some();
+        if let Some(n) = &m.normals {
+            self.n[0].set(i, n[a]);
+            self.n[1].set(i, n[b]);
+            self.n[2].set(i, n[c]);
+        }
+        self.sign[i] = if m.flip { -1.0 } else { 1.0 };
+    }
+
+    /// Lane `i`'s corner `c`.
+    #[inline(always)]
+    fn corner(&self, i: usize, c: usize) -> Vec3 {
+        self.p[c].get(i)
+    }
+
+    /// Lane `i`'s point at barycentrics (b1, b2) with its geometric and shading normals, as
+    /// [`TriangleMesh::surface`] computes them.
+    #[inline(always)]
+    fn surface(&self, i: usize, b1: f32, b2: f32) -> (Vec3, Vec3, Vec3) {
+        let (p0, p1, p2) = (self.corner(i, 0), self.corner(i, 1), self.corner(i, 2));
+        let b0 = 1.0 - b1 - b2;
+        let p = p0 * b0 + p1 * b1 + p2 * b2;
+        let ng = normalize_or((p1 - p0).cross(p2 - p0), Vec3::Z);
+        let (n0, n1, n2) = (self.n[0].get(i), self.n[1].get(i), self.n[2].get(i));
+        let smooth = normalize_or(n0 * b0 + n1 * b1 + n2 * b2, ng);
+        let ns = if self.smooth[i] { smooth } else { ng };
+        (p, ng * self.sign[i], ns * self.sign[i])
+    }
+}
+
+/// `v.try_normalize().unwrap_or(fallback)`, as a selection.
+#[inline(always)]
+fn normalize_or(v: Vec3, fallback: Vec3) -> Vec3 {
+    let rcp = v.length().recip();
+    if rcp.is_finite() & (rcp > 0.0) {
+        v * rcp
+    } else {
+        fallback
+    }
+}
+
+/// The barycentrics (u, v) that `intersect_triangle(o, d, ∞, p0, e1, e2)` finds, or (0, 0)
+/// where it finds no hit, as selections.
+#[inline(always)]
+fn barycentrics(o: Vec3, d: Vec3, p0: Vec3, e1: Vec3, e2: Vec3) -> (f32, f32) {
+    let pvec = d.cross(e2);
+    let det = e1.dot(pvec);
+    let inv = 1.0 / det;
+    let tvec = o - p0;
+    let u = tvec.dot(pvec) * inv;
+    let qvec = tvec.cross(e1);
+    let v = d.dot(qvec) * inv;
+    let t = e2.dot(qvec) * inv;
+    let hit = (det != 0.0) & (0.0..=1.0).contains(&u) & (v >= 0.0) & (u + v <= 1.0) & (t > 0.0) & (t < f32::INFINITY);
+    if hit {
+        (u, v)
+    } else {
+        (0.0, 0.0)
+    }
+}
+
+/// [`shading_frame`](crate::shape::shading_frame) as selections.
+#[inline(always)]
+fn frame_of(n: Vec3, dp_du: Vec3) -> Frame {
+    let any = Frame::from_normal(n);
+    let s = (dp_du - n * n.dot(dp_du)).normalize();
+    let tangent =
+        ((dp_du.x != 0.0) | (dp_du.y != 0.0) | (dp_du.z != 0.0)) & s.x.is_finite() & s.y.is_finite() & s.z.is_finite();
+    let t = n.cross(s);
+    Frame { s: if tangent { s } else { any.s }, t: if tangent { t } else { any.t }, n }
+}
+
+/// `area_to_solid_angle(pdf_area, r, p, n)` as a value and a validity flag.
+#[inline(always)]
+fn solid_angle_pdf(pdf_area: f32, r: Vec3, p: Vec3, n: Vec3) -> (f32, bool) {
+    let d = p - r;
+    let dist2 = d.length_squared();
+    let cos = (d.dot(n)).abs() / dist2.sqrt();
+    let pdf = pdf_area * dist2 / cos;
+    (pdf, pdf.is_finite() & (pdf > 0.0))
+}
+
+/// `spawn_ray(p, ng, d)`'s origin, as a selection.
+#[inline(always)]
+fn offset(p: Vec3, ng: Vec3, d: Vec3) -> Vec3 {
+    let eps = surface_epsilon(p);
+    let (up, down) = (p + ng * eps, p - ng * eps);
+    if d.dot(ng) >= 0.0 {
+        up
+    } else {
+        down
+    }
+}
+
+/// True when every channel is zero.
+#[inline(always)]
+fn black(c: Rgb) -> bool {
+    (c.0[0] == 0.0) & (c.0[1] == 0.0) & (c.0[2] == 0.0)
+}
+
+/// The mesh of shape `shape` (every shape of these scenes is one).
+#[inline(always)]
+fn mesh(scene: &Scene, shape: usize) -> &TriangleMesh {
+    match scene.geometry(shape) {
+        Geometry::Mesh(m) => m,
+        _ => unreachable!("DiffuseMeshes holds meshes only"),
+    }
+}
+
+impl DiffuseMeshes {
+    /// The estimates of [`path::li`](super::path::li) along camera rays `rays` of lanes
+    /// `active`, whose closest hits are `hits`, without the finite-value filter.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn li(
+        &self,
+        scene: &Scene,
+        rays: &[Ray; N],
+        hits: &PacketHits,
+        samplers: &mut [Sampler; N],
+        active: u32,
+        max_depth: u32,
+        rr_depth: u32,
+    ) -> [Rgb; N] {
+        dispatch!(scene.simd(), self: DiffuseMeshes, trace(scene: &Scene, rays: &[Ray; N], hits: &PacketHits,
+            samplers: &mut [Sampler; N], active: u32, max_depth: u32, rr_depth: u32) -> [Rgb; N])
+    }
+
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
+    fn trace(
+        &self,
+        scene: &Scene,
+        rays: &[Ray; N],
+        hits: &PacketHits,
+        samplers: &mut [Sampler; N],
+        active: u32,
+        max_depth: u32,
+        rr_depth: u32,
+    ) -> [Rgb; N] {
+        let light = mesh(scene, self.light_shape);
+        // The area densities of `Geometry::pdf` and of `TriangleMesh::sample_area`.
+        let inv_light_area = 1.0 / light.area();
+        let light_pdf_area = 1.0 / light.area().max(f32::MIN_POSITIVE);
+        let le = self.radiance;
+        let emits = !black(le);
+        let (mut o, mut d) = (V3::ZERO, V3::ZERO);
+        for i in 0..N {
+            o.set(i, rays[i].o);
+            d.set(i, rays[i].d);
+        }
+        let mut hit = *hits;
+        let (mut beta, mut result, mut lit) = (V3::splat(1.0), V3::ZERO, V3::ZERO);
+        let mut depth = [0u32; N];
+        // The previous vertex (its point and BRDF sample density), for the MIS weight of the
+        // emission found next; none for the camera.
+        let (mut prev_p, mut prev_pdf, mut has_prev) = (V3::ZERO, [0.0f32; N], false);
+        let mut alive = if max_depth == 0 { 0 } else { active };
+        let mut numbers = draw(samplers);
+        let (mut corners, mut light_corners) = (Corners::new(), Corners::new());
+        let (mut shape, mut albedo) = ([0usize; N], V3::ZERO);
+        let (mut p, mut ng, mut wo) = (V3::ZERO, V3::ZERO, V3::ZERO);
+        let mut frame = [Frame { s: Vec3::X, t: Vec3::Y, n: Vec3::Z }; N];
+        while alive != 0 {
+            // Escaped paths end: nothing lights them from outside.
+            for i in Bits(alive) {
+                match hit[i] {
+                    Some((k, _)) => {
+                        let (s, tri) = scene.primitive(k);
+                        shape[i] = s as usize;
+                        albedo.set_rgb(i, self.albedo[s as usize]);
+                        corners.load(i, mesh(scene, s as usize), tri as usize);
+                    }
+                    None => alive &= !(1 << i),
+                }
+            }
+            // The hit points and their frames, as `Scene::interaction` finds them.
+            for i in 0..N {
+                let (p0, p1, p2) = (corners.corner(i, 0), corners.corner(i, 1), corners.corner(i, 2));
+                let (e1, e2) = (p1 - p0, p2 - p0);
+                let (b1, b2) = barycentrics(o.get(i), d.get(i), p0, e1, e2);
+                let (pi, ngi, ns) = corners.surface(i, b1, b2);
+                let f = frame_of(ns, e1);
+                p.set(i, pi);
+                ng.set(i, ngi);
+                wo.set(i, f.to_local(-d.get(i)));
+                frame[i] = f;
+            }
+            // Emission found by the previous vertex's BRDF sample (or seen by the camera).
+            for i in Bits(alive) {
+                if !(emits && shape[i] == self.light_shape && frame[i].n.dot(-d.get(i)) > 0.0) {
+                    continue;
+                }
+                let w = if has_prev {
+                    let (pdf, ok) = solid_angle_pdf(inv_light_area, prev_p.get(i), p.get(i), ng.get(i));
+                    power_heuristic(prev_pdf[i], if ok { pdf } else { 0.0 })
+                } else {
+                    1.0
+                };
+                result.set_rgb(i, result.rgb(i) + beta.rgb(i) * le * w);
+            }
+            // Paths that reached their last vertex, or a back face, end.
+            for i in Bits(alive) {
+                if depth[i].saturating_add(1) >= max_depth || wo.z[i] == 0.0 || wo.z[i] < 0.0 {
+                    alive &= !(1 << i);
+                }
+            }
+            if alive == 0 {
+                break;
+            }
+            // Next-event estimation: a point on the light, its contribution and shadow ray.
+            for i in Bits(alive) {
+                light_corners.load(i, light, light.sampled_triangle(numbers.uc2[i]));
+            }
+            let (mut add, mut add_ok) = (V3::ZERO, [false; N]);
+            let (mut so, mut sd, mut s_tmax, mut s_test, mut s_skip) =
+                (V3::ZERO, V3::ZERO, [0.0f32; N], [false; N], [false; N]);
+            for i in 0..N {
+                let u = numbers.u[i];
+                let su = u.x.sqrt();
+                let (lp, lng, lns) = light_corners.surface(i, su * (1.0 - u.y), su * u.y);
+                let (pi, ngi) = (p.get(i), ng.get(i));
+                let (pdf, pdf_ok) = solid_angle_pdf(light_pdf_area, pi, lp, lng);
+                let delta = lp - pi;
+                let dist = delta.length();
+                let wi = delta / dist;
+                let sampled = pdf_ok & (lns.dot(-wi) > 0.0) & emits & (dist > 0.0);
+                let wil = frame[i].to_local(wi);
+                let wol = wo.get(i);
+                let upper = (wil.z > 0.0) & (wol.z > 0.0);
+                let f = if upper { albedo.rgb(i) * FRAC_1_PI } else { Rgb::ZERO };
+                let brdf_pdf = if upper { cosine_hemisphere_pdf(wil.z) } else { 0.0 };
+                let w = power_heuristic(pdf, brdf_pdf);
+                add.set_rgb(i, beta.rgb(i) * f * le * (wil.z.abs() * w / pdf));
+                add_ok[i] = sampled & (wil.z * wol.z > 0.0) & !black(f);
+                // The shadow test of `Scene::shadow_ray`: to the point, short of it; along
+                // the direction when the point is too far for a distance.
+                let (to, _, dist2) = spawn_ray_to(pi, ngi, lp);
+                let tolerance = 1e-3 * dist2 + surface_epsilon(lp);
+                let t_max = (lp - to.o).length() - tolerance;
+                let far = !dist.is_finite();
+                so.set(i, if far { offset(pi, ngi, wi) } else { to.o });
+                sd.set(i, if far { wi } else { to.d });
+                s_tmax[i] = if far { f32::INFINITY } else { t_max };
+                s_test[i] = far | (t_max > 0.0);
+                s_skip[i] = !far;
+            }
+            let (mut adds, mut tested) = (0u32, 0u32);
+            let mut shadow_rays = [Ray::new(Vec3::ZERO, Vec3::Z); N];
+            let mut skip = [None; N];
+            for i in Bits(alive) {
+                if add_ok[i] {
+                    adds |= 1 << i;
+                    if s_test[i] {
+                        tested |= 1 << i;
+                        shadow_rays[i] = Ray { o: so.get(i), d: sd.get(i), t_max: s_tmax[i] };
+                        skip[i] = s_skip[i].then_some(self.light_shape as u32);
+                    }
+                }
+            }
+            let blocked =
+                if tested != 0 { scene.occluded_packet(&shadow_rays, &skip, tested, scene.simd()) } else { 0 };
+            for i in Bits(adds & !blocked) {
+                lit.set_rgb(i, lit.rgb(i) + add.rgb(i));
+            }
+            // BRDF sampling: the direction each path continues in.
+            let mut wi = [Vec3::ZERO; N];
+            for i in Bits(alive) {
+                wi[i] = cosine_hemisphere(numbers.bu[i]);
+            }
+            for i in 0..N {
+                let (pi, dir) = (p.get(i), frame[i].to_world(wi[i]));
+                o.set(i, offset(pi, ng.get(i), dir));
+                d.set(i, dir);
+                prev_pdf[i] = cosine_hemisphere_pdf(wi[i].z);
+                beta.set_rgb(i, beta.rgb(i) * albedo.rgb(i));
+            }
+            prev_p = p;
+            has_prev = true;
+            for i in Bits(alive) {
+                let above = wi[i].z > 0.0;
+                if !above {
+                    alive &= !(1 << i);
+                    continue;
+                }
+                depth[i] += 1;
+                // Russian roulette, as `path` plays it (η = 1: nothing transmits).
+                let b = beta.rgb(i);
+                let q = b.max_channel().min(0.95);
+                if depth[i] >= rr_depth {
+                    if samplers[i].next_1d() >= q {
+                        alive &= !(1 << i);
+                        continue;
+                    }
+                    beta.set_rgb(i, b / q);
+                }
+                if beta.rgb(i).max_channel() <= 0.0 {
+                    alive &= !(1 << i);
+                }
+            }
+            numbers = draw(samplers);
+            for i in Bits(alive) {
+                hit[i] = scene.intersect_t(&Ray::new(o.get(i), d.get(i)));
+            }
+        }
+        std::array::from_fn(|i| result.rgb(i) + lit.rgb(i))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::camera::{look_at, Camera, FovAxis};
+    use crate::integrator::Integrator;
+    use crate::ray::Ray;
+    use crate::sampler::{PixelKey, Sampler};
+    use crate::scene::{Scene, SceneBuilder, Shape};
+    use crate::shape::{Geometry, TriangleMesh};
+    use crate::simd::{Simd, LANES};
+    use crate::texture::Texture;
+    use glam::{Vec2, Vec3};
+    use radiometry::Rgb;
+    use std::sync::Arc;
+
+    /// The cube [−1, 1]³, its faces towards the inside, transformed by `f`, with vertex
+    /// normals (towards the inside) when `smooth`.
+    fn cube(f: impl Fn(Vec3) -> Vec3, smooth: bool) -> TriangleMesh {
+        let (mut pos, mut idx) = (Vec::new(), Vec::new());
+        for axis in 0..3 {
+            for s in [-1.0f32, 1.0] {
+                let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+                let base = pos.len() as u32;
+                for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                    let mut p = Vec3::ZERO;
+                    (p[axis], p[u], p[v]) = (s, a, b);
+                    pos.push(p);
+                }
+                let inward = (pos[base as usize + 1] - pos[base as usize])
+                    .cross(pos[base as usize + 2] - pos[base as usize])[axis]
+                    * s
+                    < 0.0;
+                idx.extend(if inward {
+                    [[base, base + 1, base + 2], [base, base + 2, base + 3]]
+                } else {
+                    [[base, base + 2, base + 1], [base, base + 3, base + 2]]
+                });
+            }
+        }
+        let normals = smooth.then(|| pos.iter().map(|p: &Vec3| -p.normalize()).collect());
+        TriangleMesh::new(pos.into_iter().map(f).collect(), normals, idx).unwrap()
+    }
+
+    fn lambert(albedo: [f32; 3]) -> Arc<dyn brdf::Brdf> {
+        Arc::new(brdf::lambert::Lambert { albedo: Rgb(albedo) })
+    }
+
+    /// A room with a smooth-shaded box in it (its normals flipped to face out), lit by a
+    /// square mesh light under the ceiling.
+    fn room() -> Scene {
+        let cam = Camera::new(
+            look_at(Vec3::new(0.0, 0.0, 0.9), Vec3::new(0.0, -0.2, -1.0), Vec3::Y).unwrap(),
+            70.0,
+            FovAxis::X,
+            16,
+            12,
+        );
+        let mut b = SceneBuilder::new(cam);
+        b.shape(Shape::new(Geometry::Mesh(cube(|p| p, false)), lambert([0.7, 0.5, 0.3])));
+        let mut block = cube(|p| p * 0.3 + Vec3::new(0.3, -0.7, -0.4), true);
+        block.flip = true;
+        b.shape(Shape::new(Geometry::Mesh(block), lambert([0.2, 0.8, 0.4])));
+        let (s, y) = (0.3, 0.98);
+        let square = vec![Vec3::new(-s, y, -s), Vec3::new(s, y, -s), Vec3::new(s, y, s), Vec3::new(-s, y, s)];
+        let square = TriangleMesh::new(square, None, vec![[0, 1, 2], [0, 2, 3]]).unwrap();
+        let mut light = Shape::new(Geometry::Mesh(square), lambert([0.5; 3]));
+        light.emission = Some(Texture::Constant(Rgb::new(6.0, 5.0, 4.0)));
+        b.shape(light);
+        b.build().unwrap()
+    }
+
+    #[test]
+    fn sixteen_lanes_give_each_path_its_one_ray_estimate_bit_for_bit() {
+        let mut scene = room();
+        assert!(scene.diffuse_meshes().is_some(), "the room is a scene of the batch integrator");
+        let (w, h) = (scene.camera.width as u64, scene.camera.height as u64);
+        let mut lit = 0;
+        for simd in Simd::ALL.map(|(_, s)| s).into_iter().filter(|s| s.available()) {
+            scene.set_simd(simd);
+            for integrator in [Integrator::path(8, 3), Integrator::path(2, 5), Integrator::default()] {
+                for batch in 0..w * h / LANES as u64 {
+                    let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); LANES];
+                    let mut samplers: [Sampler; LANES] = std::array::from_fn(|_| Sampler::new(0, 0, 0));
+                    for (i, (ray, sampler)) in rays.iter_mut().zip(&mut samplers).enumerate() {
+                        let pixel = batch * LANES as u64 + i as u64;
+                        *sampler = PixelKey::new(11, pixel).sampler(batch % 3);
+                        let pos = Vec2::new((pixel % w) as f32, (pixel / w) as f32) + sampler.next_2d();
+                        *ray = scene.camera.ray(pos, Vec2::splat(0.5));
+                    }
+                    // Every other batch leaves some lanes out.
+                    let active = if batch % 2 == 0 { u32::MAX >> (32 - LANES) } else { 0b1011_0110_1110_0101 };
+                    let wide = integrator.li_packet(&scene, &rays, &mut samplers.clone(), active);
+                    for i in 0..LANES {
+                        let one = if active >> i & 1 == 1 {
+                            integrator.li(&scene, rays[i], &mut samplers[i].clone())
+                        } else {
+                            Rgb::ZERO
+                        };
+                        assert_eq!(
+                            wide[i].0.map(f32::to_bits),
+                            one.0.map(f32::to_bits),
+                            "{simd:?} {integrator:?} lane {i}"
+                        );
+                        lit += (one.max_channel() > 0.0) as usize;
+                    }
+                }
+            }
+        }
+        assert!(lit > 100, "{lit} lit estimates");
+    }
+}

@@ -1,0 +1,37 @@
+//! The scenes the batch path integrator ([`crate::integrator`]'s `wide`) renders: triangle
+//! meshes without uvs, each of Lambert's model with a constant albedo, lit by one area light
+//! of constant radiance and nothing else (Cornell boxes, diffuse interiors).
+
+use super::Shape;
+use crate::light::Light;
+use crate::material::Material;
+use crate::shape::Geometry;
+use crate::texture::Texture;
+use radiometry::Rgb;
+
+/// What the batch integrator reads of such a scene.
+#[derive(Clone, Debug)]
+pub(crate) struct DiffuseMeshes {
+    /// Per shape, its albedo.
+    pub albedo: Vec<Rgb>,
+    /// The emitting shape.
+    pub light_shape: usize,
+    /// Its radiance.
+    pub radiance: Rgb,
+}
+
+impl DiffuseMeshes {
+    /// The description of a scene of `shapes` and `lights` when it is of this kind.
+    pub(super) fn of(shapes: &[Shape], lights: &[Light]) -> Option<Self> {
+        let [Light::Area(light)] = lights else { return None };
+        let Texture::Constant(radiance) = light.radiance else { return None };
+        let albedo = shapes
+            .iter()
+            .map(|s| match (&s.geometry, &s.material) {
+                (Geometry::Mesh(m), Material::Fixed(b)) if m.uvs.is_none() => b.lambertian(),
+                _ => None,
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(DiffuseMeshes { albedo, light_shape: light.shape, radiance })
+    }
+}
