@@ -101,19 +101,24 @@ impl Iterator for Bits {
     }
 }
 
-/// A triangle's corners, vertex normals (zero when flat), flip sign and albedo, per lane.
+/// A triangle's corners, vertex normals and uvs (zero where the mesh has none) and flip
+/// sign, per lane.
 struct Corners {
     p: [V3; 3],
     n: [V3; 3],
+    uv: [[Vec2; N]; 3],
     /// With vertex normals.
     smooth: [bool; N],
+    /// With uvs.
+    textured: [bool; N],
     /// −1 for a mesh with flipped normals, else 1.
     sign: [f32; N],
 }
 
 impl Corners {
     fn new() -> Self {
-        Corners { p: [V3::ZERO; 3], n: [V3::ZERO; 3], smooth: [false; N], sign: [1.0; N] }
+        let (z, no) = (V3::ZERO, [false; N]);
+        Corners { p: [z; 3], n: [z; 3], uv: [[Vec2::ZERO; N]; 3], smooth: no, textured: no, sign: [1.0; N] }
     }
 
     /// Loads triangle `t` of mesh `m` into lane `i`.
@@ -129,7 +134,30 @@ impl Corners {
             self.n[1].set(i, n[b]);
             self.n[2].set(i, n[c]);
         }
+        self.textured[i] = m.uvs.is_some();
+        if let Some(t) = &m.uvs {
+            (self.uv[0][i], self.uv[1][i], self.uv[2][i]) = (t[a], t[b], t[c]);
+        }
         self.sign[i] = if m.flip { -1.0 } else { 1.0 };
+    }
+
+    /// Lane `i`'s ∂p/∂u, as [`TriangleMesh::surface`] computes it; `ng` is the unit geometric
+    /// normal before any flip.
+    #[inline(always)]
+    fn dp_du(&self, i: usize, ng: Vec3) -> Vec3 {
+        let (p0, p1, p2) = (self.corner(i, 0), self.corner(i, 1), self.corner(i, 2));
+        let (dp0, dp1) = (p1 - p0, p2 - p0);
+        let [t0, t1, t2] = [self.uv[0][i], self.uv[1][i], self.uv[2][i]];
+        let (duv0, duv1) = (t1 - t0, t2 - t0);
+        let det = duv0.x * duv1.y - duv0.y * duv1.x;
+        let inv = 1.0 / det;
+        let du = (dp0 * duv1.y - dp1 * duv0.y) * inv;
+        let uv_du = if det != 0.0 { du } else { Frame::from_normal(ng).s };
+        if self.textured[i] {
+            uv_du
+        } else {
+            dp0
+        }
     }
 
     /// Lane `i`'s corner `c`.
@@ -304,7 +332,8 @@ impl DiffuseMeshes {
                 let (e1, e2) = (p1 - p0, p2 - p0);
                 let (b1, b2) = barycentrics(o.get(i), d.get(i), p0, e1, e2);
                 let (pi, ngi, ns) = corners.surface(i, b1, b2);
-                let f = frame_of(ns, e1);
+                // Multiplying by the sign again undoes the flip exactly.
+                let f = frame_of(ns, corners.dp_du(i, ngi * corners.sign[i]));
                 p.set(i, pi);
                 ng.set(i, ngi);
                 wo.set(i, f.to_local(-d.get(i)));
@@ -446,7 +475,7 @@ mod tests {
     use std::sync::Arc;
 
     /// The cube [−1, 1]³, its faces towards the inside, transformed by `f`, with vertex
-    /// normals (towards the inside) when `smooth`.
+    /// normals (towards the inside) and uvs when `smooth`.
     fn cube(f: impl Fn(Vec3) -> Vec3, smooth: bool) -> TriangleMesh {
         let (mut pos, mut idx) = (Vec::new(), Vec::new());
         for axis in 0..3 {
@@ -470,14 +499,17 @@ mod tests {
             }
         }
         let normals = smooth.then(|| pos.iter().map(|p: &Vec3| -p.normalize()).collect());
-        TriangleMesh::new(pos.into_iter().map(f).collect(), normals, idx).unwrap()
+        // The smooth box has uvs too, degenerate (u = v) on the two faces across z.
+        let uv = |(k, p): (usize, &Vec3)| Vec2::new(p.x + p.y, if k / 8 == 2 { p.x + p.y } else { p.y + p.z });
+        let uvs = smooth.then(|| pos.iter().enumerate().map(uv).collect());
+        TriangleMesh::with_uvs(pos.into_iter().map(f).collect(), normals, uvs, idx).unwrap()
     }
 
     fn lambert(albedo: [f32; 3]) -> Arc<dyn brdf::Brdf> {
         Arc::new(brdf::lambert::Lambert { albedo: Rgb(albedo) })
     }
 
-    /// A room with a smooth-shaded box in it (its normals flipped to face out), lit by a
+    /// A room with a smooth-shaded, uv-mapped box in it (its normals flipped to face out), lit by a
     /// square mesh light under the ceiling.
     fn room() -> Scene {
         let cam = Camera::new(

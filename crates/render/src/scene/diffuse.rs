@@ -1,5 +1,5 @@
 //! The scenes the batch path integrator ([`crate::integrator`]'s `wide`) renders: triangle
-//! meshes without uvs, each of Lambert's model with a constant albedo, lit by one area light
+//! meshes, each of Lambert's model with a constant albedo, lit by one area light
 //! of constant radiance and nothing else (Cornell boxes, diffuse interiors).
 
 use super::Shape;
@@ -28,7 +28,7 @@ impl DiffuseMeshes {
         let albedo = shapes
             .iter()
             .map(|s| match (&s.geometry, &s.material) {
-                (Geometry::Mesh(m), Material::Fixed(b)) if m.uvs.is_none() => b.lambertian(),
+                (Geometry::Mesh(_), Material::Fixed(b)) => b.lambertian(),
                 _ => None,
             })
             .collect::<Option<Vec<_>>>()?;
