@@ -3,7 +3,8 @@
 //! traced on its own, and its shadow tests wait in a queue that answers them sixteen at a time
 //! as a packet. A path never depends on its shadow tests, only its sum does, and each lane adds
 //! its visible contributions in the order it made them: every lane gets exactly the estimate
-//! the one-ray-at-a-time integrator gives it.
+//! the one-ray-at-a-time integrator gives it. Scenes of Lambertian meshes under one area light
+//! go on to the sixteen-lane path tracer of [`super::wide`] instead.
 
 use super::{direct, finite, path, phong, Integrator};
 use crate::ray::Ray;

@@ -6,9 +6,9 @@
 //! a step go out as one packet. A lane stops computing once its path ends (its arithmetic
 //! still runs, masked out).
 //!
-//! Every lane makes the computations, in the same order and with the same functions, that
-//! [`path::trace`](super::path::trace) makes for its path, so the estimates are the same bit for
-//! bit (a test compares them); only how they are scheduled differs.
+//! Every lane makes the operations, in the same order, that [`path::trace`](super::path::trace)
+//! makes for its path (branches written as selections where a loop is to become vector code),
+//! so the estimates are the same bit for bit (a test compares them); only their schedule differs.
 
 use super::power_heuristic;
 use crate::ray::{spawn_ray_to, surface_epsilon, Ray};
@@ -93,11 +93,12 @@ impl Iterator for Bits {
     type Item = usize;
     #[inline(always)]
     fn next(&mut self) -> Option<usize> {
-        (self.0 != 0).then(|| {
-            let i = self.0.trailing_zeros() as usize;
-            self.0 &= self.0 - 1;
-            i
-        })
+        if self.0 == 0 {
+            return None;
+        }
+        let i = self.0.trailing_zeros() as usize;
+        self.0 &= self.0 - 1;
+        Some(i)
     }
 }
 
@@ -212,7 +213,7 @@ fn barycentrics(o: Vec3, d: Vec3, p0: Vec3, e1: Vec3, e2: Vec3) -> (f32, f32) {
     }
 }
 
-/// [`shading_frame`](crate::shape::shading_frame) as selections.
+/// [`SurfacePoint::frame`](crate::shape::SurfacePoint::frame) as selections.
 #[inline(always)]
 fn frame_of(n: Vec3, dp_du: Vec3) -> Frame {
     let any = Frame::from_normal(n);
@@ -243,6 +244,12 @@ fn offset(p: Vec3, ng: Vec3, d: Vec3) -> Vec3 {
     } else {
         down
     }
+}
+
+/// `w` mirrored in the surface plane when `mirror` (the back model's view, as `twosided` has it).
+#[inline(always)]
+fn mirror_if(mirror: bool, w: Vec3) -> Vec3 {
+    Vec3::new(w.x, w.y, if mirror { -w.z } else { w.z })
 }
 
 /// True when every channel is zero.
@@ -311,6 +318,9 @@ impl DiffuseMeshes {
         let mut numbers = draw(samplers);
         let (mut corners, mut light_corners) = (Corners::new(), Corners::new());
         let (mut shape, mut albedo) = ([0usize; N], V3::ZERO);
+        // Per lane: the front and back albedos, whether the back scatters, and whether the
+        // path arrived on the back (where the back model sees mirrored directions).
+        let (mut front, mut back, mut two_sided, mut on_back) = (V3::ZERO, V3::ZERO, [false; N], [false; N]);
         let (mut p, mut ng, mut wo) = (V3::ZERO, V3::ZERO, V3::ZERO);
         let mut frame = [Frame { s: Vec3::X, t: Vec3::Y, n: Vec3::Z }; N];
         while alive != 0 {
@@ -320,7 +330,10 @@ impl DiffuseMeshes {
                     Some((k, _)) => {
                         let (s, tri) = scene.primitive(k);
                         shape[i] = s as usize;
-                        albedo.set_rgb(i, self.albedo[s as usize]);
+                        let (a, b) = self.albedo[s as usize];
+                        front.set_rgb(i, a);
+                        back.set_rgb(i, b.unwrap_or(a));
+                        two_sided[i] = b.is_some();
                         corners.load(i, mesh(scene, s as usize), tri as usize);
                     }
                     None => alive &= !(1 << i),
@@ -334,10 +347,13 @@ impl DiffuseMeshes {
                 let (pi, ngi, ns) = corners.surface(i, b1, b2);
                 // Multiplying by the sign again undoes the flip exactly.
                 let f = frame_of(ns, corners.dp_du(i, ngi * corners.sign[i]));
+                let w = f.to_local(-d.get(i));
                 p.set(i, pi);
                 ng.set(i, ngi);
-                wo.set(i, f.to_local(-d.get(i)));
+                wo.set(i, w);
                 frame[i] = f;
+                on_back[i] = w.z < 0.0;
+                albedo.set_rgb(i, if on_back[i] { back.rgb(i) } else { front.rgb(i) });
             }
             // Emission found by the previous vertex's BRDF sample (or seen by the camera).
             for i in Bits(alive) {
@@ -352,9 +368,9 @@ impl DiffuseMeshes {
                 };
                 result.set_rgb(i, result.rgb(i) + beta.rgb(i) * le * w);
             }
-            // Paths that reached their last vertex, or a back face, end.
+            // Paths that reached their last vertex, or a one-sided model's back, end.
             for i in Bits(alive) {
-                if depth[i].saturating_add(1) >= max_depth || wo.z[i] == 0.0 || wo.z[i] < 0.0 {
+                if depth[i].saturating_add(1) >= max_depth || wo.z[i] == 0.0 || (on_back[i] && !two_sided[i]) {
                     alive &= !(1 << i);
                 }
             }
@@ -380,9 +396,10 @@ impl DiffuseMeshes {
                 let sampled = pdf_ok & (lns.dot(-wi) > 0.0) & emits & (dist > 0.0);
                 let wil = frame[i].to_local(wi);
                 let wol = wo.get(i);
-                let upper = (wil.z > 0.0) & (wol.z > 0.0);
+                let (wim, wom) = (mirror_if(on_back[i], wil), mirror_if(on_back[i], wol));
+                let upper = (wim.z > 0.0) & (wom.z > 0.0);
                 let f = if upper { albedo.rgb(i) * FRAC_1_PI } else { Rgb::ZERO };
-                let brdf_pdf = if upper { cosine_hemisphere_pdf(wil.z) } else { 0.0 };
+                let brdf_pdf = if upper { cosine_hemisphere_pdf(wim.z) } else { 0.0 };
                 let w = power_heuristic(pdf, brdf_pdf);
                 add.set_rgb(i, beta.rgb(i) * f * le * (wil.z.abs() * w / pdf));
                 add_ok[i] = sampled & (wil.z * wol.z > 0.0) & !black(f);
@@ -422,7 +439,7 @@ impl DiffuseMeshes {
                 wi[i] = cosine_hemisphere(numbers.bu[i]);
             }
             for i in 0..N {
-                let (pi, dir) = (p.get(i), frame[i].to_world(wi[i]));
+                let (pi, dir) = (p.get(i), frame[i].to_world(mirror_if(on_back[i], wi[i])));
                 o.set(i, offset(pi, ng.get(i), dir));
                 d.set(i, dir);
                 prev_pdf[i] = cosine_hemisphere_pdf(wi[i].z);
@@ -431,8 +448,9 @@ impl DiffuseMeshes {
             prev_p = p;
             has_prev = true;
             for i in Bits(alive) {
-                let above = wi[i].z > 0.0;
-                if !above {
+                // The sample must lie above the model's own side, and on wo's side.
+                let usable = wi[i].z > 0.0 && mirror_if(on_back[i], wi[i]).z * wo.z[i] > 0.0;
+                if !usable {
                     alive &= !(1 << i);
                     continue;
                 }
@@ -464,6 +482,7 @@ impl DiffuseMeshes {
 mod tests {
     use crate::camera::{look_at, Camera, FovAxis};
     use crate::integrator::Integrator;
+    use crate::material::Material;
     use crate::ray::Ray;
     use crate::sampler::{PixelKey, Sampler};
     use crate::scene::{Scene, SceneBuilder, Shape};
@@ -509,8 +528,8 @@ mod tests {
         Arc::new(brdf::lambert::Lambert { albedo: Rgb(albedo) })
     }
 
-    /// A room with a smooth-shaded, uv-mapped box in it (its normals flipped to face out), lit by a
-    /// square mesh light under the ceiling.
+    /// A room with a smooth-shaded, uv-mapped box in it (its normals flipped to face out) and a
+    /// two-sided sheet, lit by a square mesh light under the ceiling.
     fn room() -> Scene {
         let cam = Camera::new(
             look_at(Vec3::new(0.0, 0.0, 0.9), Vec3::new(0.0, -0.2, -1.0), Vec3::Y).unwrap(),
@@ -527,6 +546,11 @@ mod tests {
         let (s, y) = (0.3, 0.98);
         let square = vec![Vec3::new(-s, y, -s), Vec3::new(s, y, -s), Vec3::new(s, y, s), Vec3::new(-s, y, s)];
         let square = TriangleMesh::new(square, None, vec![[0, 1, 2], [0, 2, 3]]).unwrap();
+        // A sheet standing in the room, different on its two sides.
+        let sheet = vec![Vec3::new(-0.4, -1.0, -0.9), Vec3::new(-0.4, 0.2, -0.9), Vec3::new(-0.4, 0.2, -0.1)];
+        let sides = |a| Box::new(Material::Fixed(lambert(a)));
+        let two_sided = Material::TwoSided(sides([0.9, 0.1, 0.1]), sides([0.1, 0.2, 0.9]));
+        b.shape(Shape::new(Geometry::Mesh(TriangleMesh::new(sheet, None, vec![[0, 1, 2]]).unwrap()), two_sided));
         let mut light = Shape::new(Geometry::Mesh(square), lambert([0.5; 3]));
         light.emission = Some(Texture::Constant(Rgb::new(6.0, 5.0, 4.0)));
         b.shape(light);

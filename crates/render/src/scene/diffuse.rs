@@ -1,5 +1,5 @@
 //! The scenes the batch path integrator ([`crate::integrator`]'s `wide`) renders: triangle
-//! meshes, each of Lambert's model with a constant albedo, lit by one area light
+//! meshes, each of Lambert's model with a constant albedo (on one side, or `twosided`), lit by one area light
 //! of constant radiance and nothing else (Cornell boxes, diffuse interiors).
 
 use super::Shape;
@@ -12,8 +12,8 @@ use radiometry::Rgb;
 /// What the batch integrator reads of such a scene.
 #[derive(Clone, Debug)]
 pub(crate) struct DiffuseMeshes {
-    /// Per shape, its albedo.
-    pub albedo: Vec<Rgb>,
+    /// Per shape, its albedo on the front and, for a `twosided` one, on the back.
+    pub albedo: Vec<(Rgb, Option<Rgb>)>,
     /// The emitting shape.
     pub light_shape: usize,
     /// Its radiance.
@@ -25,10 +25,15 @@ impl DiffuseMeshes {
     pub(super) fn of(shapes: &[Shape], lights: &[Light]) -> Option<Self> {
         let [Light::Area(light)] = lights else { return None };
         let Texture::Constant(radiance) = light.radiance else { return None };
+        let lambert = |m: &Material| match m {
+            Material::Fixed(b) => b.lambertian(),
+            _ => None,
+        };
         let albedo = shapes
             .iter()
             .map(|s| match (&s.geometry, &s.material) {
-                (Geometry::Mesh(_), Material::Fixed(b)) => b.lambertian(),
+                (Geometry::Mesh(_), Material::TwoSided(front, back)) => Some((lambert(front)?, Some(lambert(back)?))),
+                (Geometry::Mesh(_), m) => Some((lambert(m)?, None)),
                 _ => None,
             })
             .collect::<Option<Vec<_>>>()?;

@@ -39,22 +39,16 @@ impl SurfacePoint {
     /// where ∂p/∂u vanishes (a sphere's poles, a disk's centre) the normal's own basis.
     #[inline]
     pub fn frame(&self) -> Frame {
-        shading_frame(self.ns, self.dp_du)
+        let n = self.ns;
+        if self.dp_du == Vec3::ZERO {
+            return Frame::from_normal(n);
+        }
+        let s = (self.dp_du - n * n.dot(self.dp_du)).normalize();
+        if !s.is_finite() {
+            return Frame::from_normal(n);
+        }
+        Frame { s, t: n.cross(s), n }
     }
-}
-
-/// The frame of shading normal `n` whose `s` follows ∂p/∂u = `dp_du` (made orthogonal to `n`),
-/// or any frame of `n` when ∂p/∂u is zero or along `n`.
-#[inline]
-pub fn shading_frame(n: Vec3, dp_du: Vec3) -> Frame {
-    if dp_du == Vec3::ZERO {
-        return Frame::from_normal(n);
-    }
-    let s = (dp_du - n * n.dot(dp_du)).normalize();
-    if !s.is_finite() {
-        return Frame::from_normal(n);
-    }
-    Frame { s, t: n.cross(s), n }
 }
 
 /// An axis-aligned bounding box.
