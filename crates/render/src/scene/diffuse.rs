@@ -1,6 +1,6 @@
 //! The scenes the batch path integrator ([`crate::integrator`]'s `wide`) renders: triangle
-//! meshes, each of Lambert's model with a constant albedo (on one side, or `twosided`), lit by one area light
-//! of constant radiance and nothing else (Cornell boxes, diffuse interiors).
+//! meshes, each of Lambert's model with a constant albedo (on one side, or `twosided`), lit by
+//! one area light of constant radiance and nothing else (Cornell boxes, diffuse interiors).
 
 use super::Shape;
 use crate::light::Light;
