@@ -51,7 +51,8 @@ impl Rgb {
     /// True when every channel is zero.
     #[inline]
     pub fn is_black(self) -> bool {
-        self.0 == [0.0; 3]
+        // Without short-circuits, so that loops over many values of it become vector code.
+        (self.0[0] == 0.0) & (self.0[1] == 0.0) & (self.0[2] == 0.0)
     }
 
     /// True when every channel is finite (no NaN, no infinity).

@@ -331,10 +331,26 @@ pub fn dot<T: Copy + Mul<Output = T> + Add<Output = T>>(a: &[T; 3], b: &[T; 3]) 
 
 /// Calls `f` with the index of every set bit of `mask`, lowest first.
 #[inline(always)]
-pub fn for_bits(mut mask: u32, mut f: impl FnMut(usize)) {
-    while mask != 0 {
-        f(mask.trailing_zeros() as usize);
-        mask &= mask - 1;
+pub fn for_bits(mask: u32, mut f: impl FnMut(usize)) {
+    for i in Bits(mask) {
+        f(i);
+    }
+}
+
+/// The indices of the set bits of a mask, lowest first: [`for_bits`] as an iterator, for loops
+/// whose body must not be a closure (code compiled for an instruction set by `dispatch!`).
+pub struct Bits(pub u32);
+
+impl Iterator for Bits {
+    type Item = usize;
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        if self.0 == 0 {
+            return None;
+        }
+        let i = self.0.trailing_zeros() as usize;
+        self.0 &= self.0 - 1;
+        Some(i)
     }
 }
 

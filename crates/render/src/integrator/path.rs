@@ -46,22 +46,29 @@ enum Step {
 
 /// The uniform numbers a vertex uses: light choice, light sample, BRDF sample.
 #[derive(Clone, Copy)]
-struct VertexNumbers {
-    uc: f32,
-    uc2: f32,
-    u: Vec2,
-    bc: f32,
-    bu: Vec2,
+pub(super) struct VertexNumbers {
+    pub uc: f32,
+    pub uc2: f32,
+    pub u: Vec2,
+    pub bc: f32,
+    pub bu: Vec2,
 }
 
 impl VertexNumbers {
+    /// Draws them, in the order every integrator of paths draws them.
+    #[inline(always)]
+    pub(super) fn new(sampler: &mut Sampler) -> Self {
+        let (uc, uc2, u) = (sampler.next_1d(), sampler.next_1d(), sampler.next_2d());
+        let (bc, bu) = (sampler.next_1d(), sampler.next_2d());
+        VertexNumbers { uc, uc2, u, bc, bu }
+    }
+
     /// Draws them, and starts loading the light sample's first table entry.
     #[inline]
     fn draw(sampler: &mut Sampler, scene: &Scene) -> Self {
-        let (uc, uc2, u) = (sampler.next_1d(), sampler.next_1d(), sampler.next_2d());
-        let (bc, bu) = (sampler.next_1d(), sampler.next_2d());
-        scene.prefetch_light(uc, uc2);
-        VertexNumbers { uc, uc2, u, bc, bu }
+        let n = Self::new(sampler);
+        scene.prefetch_light(n.uc, n.uc2);
+        n
     }
 }
 

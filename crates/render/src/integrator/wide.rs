@@ -10,12 +10,14 @@
 //! makes for its path (branches written as selections where a loop is to become vector code),
 //! so the estimates are the same bit for bit (a test compares them); only their schedule differs.
 
+use super::path::VertexNumbers;
 use super::power_heuristic;
-use crate::ray::{spawn_ray_to, surface_epsilon, Ray};
+use crate::ray::{offset_origin, spawn_ray_to, surface_epsilon, Ray};
 use crate::sampler::Sampler;
 use crate::scene::{DiffuseMeshes, PacketHits, Scene};
+use crate::shape::sphere::solid_angle_pdf;
 use crate::shape::{Geometry, TriangleMesh};
-use crate::simd::{dispatch, LANES};
+use crate::simd::{dispatch, Bits, LANES};
 use glam::{Vec2, Vec3};
 use radiometry::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
 use radiometry::{Frame, Rgb};
@@ -75,31 +77,10 @@ struct Numbers {
 fn draw(samplers: &mut [Sampler; N]) -> Numbers {
     let mut n = Numbers { uc2: [0.0; N], u: [Vec2::ZERO; N], bu: [Vec2::ZERO; N] };
     for (i, s) in samplers.iter_mut().enumerate() {
-        let _choice = s.next_1d();
-        n.uc2[i] = s.next_1d();
-        n.u[i].x = s.next_1d();
-        n.u[i].y = s.next_1d();
-        let _lobe = s.next_1d();
-        n.bu[i].x = s.next_1d();
-        n.bu[i].y = s.next_1d();
+        let v = VertexNumbers::new(s);
+        (n.uc2[i], n.u[i], n.bu[i]) = (v.uc2, v.u, v.bu);
     }
     n
-}
-
-/// The lanes of `mask`, lowest first.
-struct Bits(u32);
-
-impl Iterator for Bits {
-    type Item = usize;
-    #[inline(always)]
-    fn next(&mut self) -> Option<usize> {
-        if self.0 == 0 {
-            return None;
-        }
-        let i = self.0.trailing_zeros() as usize;
-        self.0 &= self.0 - 1;
-        Some(i)
-    }
 }
 
 /// A triangle's corners, vertex normals and uvs (zero where the mesh has none) and flip
@@ -224,38 +205,10 @@ fn frame_of(n: Vec3, dp_du: Vec3) -> Frame {
     Frame { s: if tangent { s } else { any.s }, t: if tangent { t } else { any.t }, n }
 }
 
-/// `area_to_solid_angle(pdf_area, r, p, n)` as a value and a validity flag.
-#[inline(always)]
-fn solid_angle_pdf(pdf_area: f32, r: Vec3, p: Vec3, n: Vec3) -> (f32, bool) {
-    let d = p - r;
-    let dist2 = d.length_squared();
-    let cos = (d.dot(n)).abs() / dist2.sqrt();
-    let pdf = pdf_area * dist2 / cos;
-    (pdf, pdf.is_finite() & (pdf > 0.0))
-}
-
-/// `spawn_ray(p, ng, d)`'s origin, as a selection.
-#[inline(always)]
-fn offset(p: Vec3, ng: Vec3, d: Vec3) -> Vec3 {
-    let eps = surface_epsilon(p);
-    let (up, down) = (p + ng * eps, p - ng * eps);
-    if d.dot(ng) >= 0.0 {
-        up
-    } else {
-        down
-    }
-}
-
 /// `w` mirrored in the surface plane when `mirror` (the back model's view, as `twosided` has it).
 #[inline(always)]
 fn mirror_if(mirror: bool, w: Vec3) -> Vec3 {
     Vec3::new(w.x, w.y, if mirror { -w.z } else { w.z })
-}
-
-/// True when every channel is zero.
-#[inline(always)]
-fn black(c: Rgb) -> bool {
-    (c.0[0] == 0.0) & (c.0[1] == 0.0) & (c.0[2] == 0.0)
 }
 
 /// The mesh of shape `shape` (every shape of these scenes is one).
@@ -302,7 +255,7 @@ impl DiffuseMeshes {
         let inv_light_area = 1.0 / light.area();
         let light_pdf_area = 1.0 / light.area().max(f32::MIN_POSITIVE);
         let le = self.radiance;
-        let emits = !black(le);
+        let emits = !le.is_black();
         let (mut o, mut d) = (V3::ZERO, V3::ZERO);
         for i in 0..N {
             o.set(i, rays[i].o);
@@ -402,14 +355,14 @@ impl DiffuseMeshes {
                 let brdf_pdf = if upper { cosine_hemisphere_pdf(wim.z) } else { 0.0 };
                 let w = power_heuristic(pdf, brdf_pdf);
                 add.set_rgb(i, beta.rgb(i) * f * le * (wil.z.abs() * w / pdf));
-                add_ok[i] = sampled & (wil.z * wol.z > 0.0) & !black(f);
+                add_ok[i] = sampled & (wil.z * wol.z > 0.0) & !f.is_black();
                 // The shadow test of `Scene::shadow_ray`: to the point, short of it; along
                 // the direction when the point is too far for a distance.
                 let (to, _, dist2) = spawn_ray_to(pi, ngi, lp);
                 let tolerance = 1e-3 * dist2 + surface_epsilon(lp);
                 let t_max = (lp - to.o).length() - tolerance;
                 let far = !dist.is_finite();
-                so.set(i, if far { offset(pi, ngi, wi) } else { to.o });
+                so.set(i, if far { offset_origin(pi, ngi, wi) } else { to.o });
                 sd.set(i, if far { wi } else { to.d });
                 s_tmax[i] = if far { f32::INFINITY } else { t_max };
                 s_test[i] = far | (t_max > 0.0);
@@ -440,7 +393,7 @@ impl DiffuseMeshes {
             }
             for i in 0..N {
                 let (pi, dir) = (p.get(i), frame[i].to_world(mirror_if(on_back[i], wi[i])));
-                o.set(i, offset(pi, ng.get(i), dir));
+                o.set(i, offset_origin(pi, ng.get(i), dir));
                 d.set(i, dir);
                 prev_pdf[i] = cosine_hemisphere_pdf(wi[i].z);
                 beta.set_rgb(i, beta.rgb(i) * albedo.rgb(i));

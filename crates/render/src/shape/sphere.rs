@@ -190,11 +190,19 @@ fn unit_angle_z(v: Vec3) -> f32 {
 /// None when the point is seen exactly edge-on or coincides with `r`.
 #[inline]
 pub fn area_to_solid_angle(pdf_area: f32, r: Vec3, p: Vec3, n: Vec3) -> Option<f32> {
+    let (pdf, ok) = solid_angle_pdf(pdf_area, r, p, n);
+    ok.then_some(pdf)
+}
+
+/// [`area_to_solid_angle`] as the density and whether it is valid (finite and positive), so
+/// that loops over many points of it become vector code.
+#[inline(always)]
+pub fn solid_angle_pdf(pdf_area: f32, r: Vec3, p: Vec3, n: Vec3) -> (f32, bool) {
     let d = p - r;
     let dist2 = d.length_squared();
     let cos = (d.dot(n)).abs() / dist2.sqrt();
     let pdf = pdf_area * dist2 / cos;
-    (pdf.is_finite() && pdf > 0.0).then_some(pdf)
+    (pdf, pdf.is_finite() & (pdf > 0.0))
 }
 
 #[cfg(test)]
