@@ -12,6 +12,11 @@
 //! direction where ρ > 0 reachable even if cell averaging missed a narrow feature. `pdf` uses the
 //! same band and cell lookup as `sample`, and `sample` reports `pdf(wi, wo)` itself, so the two
 //! agree exactly. Isotropy is assumed: only θo and φi − φo matter.
+//!
+//! A cell is drawn by inverting the band's cdf. A guide table (the cutpoint method of Chen and
+//! Asau 1974) gives, for each of `GUIDE` equal intervals of u, the cell that the interval's start
+//! falls in, so the search is a short forward scan from there rather than a binary search whose
+//! every step misses the cache; it finds the same cell.
 
 use radiometry::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
 use radiometry::{Vec2, Vec3};
@@ -27,6 +32,8 @@ pub const PHI_BINS: usize = 128;
 pub const COSINE_FRACTION: f32 = 0.1;
 
 const CELLS: usize = THETA_BINS * PHI_BINS;
+/// Guide-table entries per band (a power of two, so u·GUIDE and its floor are exact).
+const GUIDE: usize = 1024;
 
 /// Per-band piecewise-constant distributions of wi.
 #[derive(Clone, Debug)]
@@ -35,6 +42,8 @@ pub struct TableSampler {
     cos_edges: Vec<f64>,
     /// Per band: cumulative cell probabilities, `CELLS + 1` values from 0 to 1.
     cdf: Vec<f64>,
+    /// Per band and guide interval i: the cell that u = i / GUIDE falls in.
+    guide: Vec<u16>,
     /// Per band and cell: probability / solid angle.
     density: Vec<f32>,
     /// Per band: the cosine share (1 when the table is empty).
@@ -123,7 +132,11 @@ impl TableSampler {
                 });
             }
         });
-        TableSampler { cos_edges, cdf, density, cosine }
+        let guide = cdf
+            .chunks_exact(CELLS + 1)
+            .flat_map(|cdf| (0..GUIDE).map(|i| find_cell(cdf, i as f64 / GUIDE as f64, 0) as u16))
+            .collect();
+        TableSampler { cos_edges, cdf, guide, density, cosine }
     }
 
     /// Solid-angle density of `sample(wo, ..)` returning `wi`.
@@ -171,8 +184,8 @@ impl TableSampler {
         } else {
             let cdf = &self.cdf[k * (CELLS + 1)..(k + 1) * (CELLS + 1)];
             let ux = f64::from(u.x);
-            // The last cell whose lower cdf edge is ≤ ux, skipping empty cells.
-            let cell = (cdf.partition_point(|&v| v <= ux).max(1) - 1).min(CELLS - 1);
+            let start = self.guide[k * GUIDE + ((ux * GUIDE as f64) as usize).min(GUIDE - 1)];
+            let cell = find_cell(cdf, ux, usize::from(start));
             let width = cdf[cell + 1] - cdf[cell];
             let t = if width > 0.0 { ((ux - cdf[cell]) / width).clamp(0.0, 1.0) } else { 0.5 };
             let (it, ip) = (cell / PHI_BINS, cell % PHI_BINS);
@@ -194,6 +207,58 @@ impl TableSampler {
 
     /// Bytes held.
     pub fn memory(&self) -> usize {
-        self.cdf.len() * 8 + self.density.len() * 4 + self.cosine.len() * 4 + self.cos_edges.len() * 8
+        self.cdf.len() * 8
+            + self.guide.len() * 2
+            + self.density.len() * 4
+            + self.cosine.len() * 4
+            + self.cos_edges.len() * 8
+    }
+}
+
+/// The last cell whose lower cdf edge is ≤ u (so empty cells are skipped), searching forward
+/// from `start`, a cell at or before it.
+#[inline]
+fn find_cell(cdf: &[f64], u: f64, start: usize) -> usize {
+    let mut cell = start;
+    while cell + 1 < CELLS && cdf[cell + 1] <= u {
+        cell += 1;
+    }
+    cell
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn guided_search_finds_the_binary_search_cell() {
+        // Zero over half the azimuths and near grazing, a spike at the mirror direction: runs
+        // of empty cells whose edges repeat a cdf value.
+        let s = TableSampler::build(&|wi: Vec3, wo: Vec3| {
+            let mirror = (wi.x + wo.x).abs() + (wi.y + wo.y).abs() < 0.05;
+            if wi.y < 0.0 || wi.z < 0.2 {
+                0.0
+            } else if mirror {
+                500.0
+            } else {
+                1.0
+            }
+        });
+        for k in [0, 7, THETA_O_BINS - 1] {
+            let cdf = &s.cdf[k * (CELLS + 1)..(k + 1) * (CELLS + 1)];
+            // Every cdf edge, the guide intervals' starts and a sweep in between.
+            let us = cdf
+                .iter()
+                .copied()
+                .chain((0..GUIDE).map(|i| i as f64 / GUIDE as f64))
+                .chain((0..100_000).map(|i| f64::from((i as f32 + 0.37) / 100_000.0)))
+                .filter(|u| (0.0..1.0).contains(u));
+            for u in us {
+                let binary = (cdf.partition_point(|&v| v <= u).max(1) - 1).min(CELLS - 1);
+                let start = s.guide[k * GUIDE + ((u * GUIDE as f64) as usize).min(GUIDE - 1)];
+                assert!(usize::from(start) <= binary, "band {k}, u {u}");
+                assert_eq!(find_cell(cdf, u, usize::from(start)), binary, "band {k}, u {u}");
+            }
+        }
     }
 }
