@@ -199,6 +199,11 @@ pub fn stream(job: Job, out: &mut dyn Write, running: &AtomicUsize, cancel: Arc<
             if out.write_all(&frame(&sum, n, job.exposure)).and_then(|()| out.flush()).is_err() {
                 return;
             }
+            if n == 1 {
+                // The first frame is what the page waits for; the refinement yields to the plots.
+                // (The priority can only be lowered, so it starts at the plots' level.)
+                super::background(5);
+            }
         }
     }
 }

@@ -142,7 +142,7 @@ fn open_browser(url: &str) {
 /// Lowers this thread's scheduling priority to `nice`, for work that may take seconds (renders,
 /// checks, fits): on Linux nice is per thread and the render's worker threads, created from
 /// this one, inherit it, so the plots a slider move asks for are computed first.
-fn background(nice: i32) {
+pub(super) fn background(nice: i32) {
     #[cfg(target_os = "linux")]
     // SAFETY: setpriority only reads its integer arguments; a failure leaves the priority as it was.
     unsafe {
@@ -180,11 +180,10 @@ fn handle(state: &State, mut request: tiny_http::Request) {
         return;
     }
     let (path, q) = Query::split(request.url());
-    // Plots first, then the lit views, then checks and fits (a second or more each).
-    match path.as_str() {
-        "/api/render" => background(5),
-        "/api/check" | "/api/fit" => background(19),
-        _ => {}
+    // Plots and a lit view's first frame first, then the lit views' refinement (lit::stream
+    // lowers itself), then checks and fits (a second or more each).
+    if matches!(path.as_str(), "/api/check" | "/api/fit") {
+        background(19);
     }
     let method = request.method().clone();
     if path == "/api/render" {
