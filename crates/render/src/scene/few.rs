@@ -1,13 +1,14 @@
 //! Scenes of a few primitives, which rays test without a BVH: the triangles sixteen at a time
 //! (a [`Tri16`] per sixteen, filled in BVH order), the spheres four at a time in SIMD lanes,
 //! each lane doing the operations of [`Sphere::intersect`] in its order (so the same
-//! distances bit for bit), the other shapes one by one. On equal distances the primitive
-//! tested first stays: triangles before spheres before the rest, and lower BVH order first.
+//! distances bit for bit), the flat shapes one by one, their tests inlined. On equal distances
+//! the primitive tested first stays: triangles before spheres before the rest, and lower BVH
+//! order first.
 
 use super::Scene;
 use crate::bvh::{Ray16, Tri16};
 use crate::ray::Ray;
-use crate::shape::Sphere;
+use crate::shape::{Disk, Rectangle, Sphere};
 use crate::simd::{dot, LANES};
 use glam::{BVec4A, Vec3, Vec4};
 
@@ -46,14 +47,40 @@ impl Sphere4 {
     }
 }
 
+/// A primitive of a few-primitive scene, as [`Few::new`] is handed it.
+pub(super) enum Prim {
+    /// A triangle as a corner and two edges.
+    Triangle(Vec3, Vec3, Vec3),
+    Sphere(Sphere),
+    Flat(Flat),
+}
+
+/// A shape tested on its own.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Flat {
+    Rectangle(Rectangle),
+    Disk(Disk),
+}
+
+impl Flat {
+    #[inline(always)]
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
+        match self {
+            Flat::Rectangle(r) => r.intersect(ray.o, ray.d, t_max),
+            Flat::Disk(d) => d.intersect(ray.o, ray.d, t_max),
+        }
+    }
+}
+
 /// The triangles of a few-primitive scene in packs of sixteen, its spheres in packs of four,
-/// and its other primitives.
+/// and its flat shapes.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Few {
     /// Each pack with its lanes' BVH-ordered primitives (`u32::MAX` when unused).
     triangles: Vec<(Tri16, [u32; LANES])>,
     spheres: Vec<Sphere4>,
-    others: Vec<u32>,
+    /// Each with its BVH-ordered primitive.
+    flats: Vec<(u32, Flat)>,
 }
 
 impl Few {
@@ -63,31 +90,25 @@ impl Few {
         self.triangles.is_empty()
     }
 
-    /// Over `n` BVH-ordered primitives, `triangle(k)` giving those that are triangles (as a
-    /// corner and two edges) and `sphere(k)` those that are spheres.
-    pub fn new(
-        n: usize,
-        triangle: impl Fn(usize) -> Option<(Vec3, Vec3, Vec3)>,
-        sphere: impl Fn(usize) -> Option<Sphere>,
-    ) -> Few {
+    /// Over `n` BVH-ordered primitives, `prim(k)` giving each.
+    pub fn new(n: usize, prim: impl Fn(usize) -> Prim) -> Few {
         let mut few = Few::default();
         let mut spheres: Vec<(u32, Sphere)> = Vec::new();
         let mut lane = LANES;
         for k in 0..n {
-            if let Some((p0, e1, e2)) = triangle(k) {
-                if lane == LANES {
-                    few.triangles.push((Tri16::default(), [u32::MAX; LANES]));
-                    lane = 0;
+            match prim(k) {
+                Prim::Triangle(p0, e1, e2) => {
+                    if lane == LANES {
+                        few.triangles.push((Tri16::default(), [u32::MAX; LANES]));
+                        lane = 0;
+                    }
+                    let (pack, prims) = few.triangles.last_mut().expect("a pack was just pushed");
+                    pack.set(lane, p0, e1, e2);
+                    prims[lane] = k as u32;
+                    lane += 1;
                 }
-                let (pack, prims) = few.triangles.last_mut().expect("a pack was just pushed");
-                pack.set(lane, p0, e1, e2);
-                prims[lane] = k as u32;
-                lane += 1;
-                continue;
-            }
-            match sphere(k) {
-                Some(s) => spheres.push((k as u32, s)),
-                None => few.others.push(k as u32),
+                Prim::Sphere(s) => spheres.push((k as u32, s)),
+                Prim::Flat(f) => few.flats.push((k as u32, f)),
             }
         }
         for chunk in spheres.chunks(4) {
@@ -132,10 +153,10 @@ impl Scene {
                 }
             }
         }
-        for &k in &few.others {
-            if let Some(t) = self.intersect_prim(k as usize, ray.o, ray.d, t_max) {
+        for (k, flat) in &few.flats {
+            if let Some(t) = flat.intersect(ray, t_max) {
                 t_max = t;
-                best = Some((k as usize, t));
+                best = Some((*k as usize, t));
             }
         }
         best
@@ -146,7 +167,7 @@ impl Scene {
     pub(super) fn occluded_few(&self, few: &Few, ray: &Ray, skip: Option<u32>) -> bool {
         if !few.triangles.is_empty() {
             let r16 = Ray16::new(ray.o, ray.d);
-            // A loop, not `Iterator::any`: a closure's body would not be compiled for the set.
+            // Loops, not `Iterator::any`: a closure's body would not be compiled for the set.
             for (pack, _) in &few.triangles {
                 if pack.any(&r16, ray.t_max) {
                     return true;
@@ -164,8 +185,11 @@ impl Scene {
                 }
             }
         }
-        few.others
-            .iter()
-            .any(|&k| counts(k as usize) && self.intersect_prim(k as usize, ray.o, ray.d, ray.t_max).is_some())
+        for (k, flat) in &few.flats {
+            if counts(*k as usize) && flat.intersect(ray, ray.t_max).is_some() {
+                return true;
+            }
+        }
+        false
     }
 }

@@ -157,15 +157,15 @@ impl SceneBuilder {
         let geometry = |k: usize| &shapes[refs[k].0 as usize].geometry;
         let triangles = (0..refs.len()).filter(|&k| matches!(geometry(k), Geometry::Mesh(_))).count();
         let few = (triangles <= FEW_TRIANGLES && refs.len() - triangles <= LINEAR_MAX).then(|| {
-            let triangle = |k: usize| match geometry(k) {
-                Geometry::Mesh(m) => Some(corner_edges(m, refs[k].1)),
-                _ => None,
-            };
-            let sphere = |k: usize| match geometry(k) {
-                Geometry::Sphere(s) => Some(*s),
-                _ => None,
-            };
-            few::Few::new(refs.len(), triangle, sphere)
+            few::Few::new(refs.len(), |k| match geometry(k) {
+                Geometry::Mesh(m) => {
+                    let (p0, e1, e2) = corner_edges(m, refs[k].1);
+                    few::Prim::Triangle(p0, e1, e2)
+                }
+                Geometry::Sphere(s) => few::Prim::Sphere(*s),
+                Geometry::Rectangle(r) => few::Prim::Flat(few::Flat::Rectangle(*r)),
+                Geometry::Disk(d) => few::Prim::Flat(few::Flat::Disk(*d)),
+            })
         });
         let environment = lights.iter().position(Light::is_environment);
         let light_bounds = light_choice::bounds(&lights, &shapes);
