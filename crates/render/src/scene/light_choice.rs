@@ -165,15 +165,12 @@ impl Scene {
     }
 
     /// [`choice_pmf`](Self::choice_pmf) for one light beside environment `e`: only whether
-    /// that light can light `r` matters (half each, or all to the environment). Two entries,
-    /// which stay in registers.
+    /// that light can light `r` matters (half each, or all to the environment). The answer is
+    /// a flag, not a two-entry array: written lane by lane and read back whole, the array
+    /// stalled on the store (perf).
     #[inline]
-    fn pmf_beside_environment(&self, e: usize, r: &RefPoint) -> [f32; 2] {
-        let lit = self.can_light(1 - e, r);
-        let mut p = [0.0; 2];
-        p[1 - e] = if lit { 0.5 } else { 0.0 };
-        p[e] = if lit { 0.5 } else { 1.0 };
-        p
+    fn shared_beside_environment(&self, e: usize, r: &RefPoint) -> bool {
+        self.can_light(1 - e, r)
     }
 
     /// The light chosen from `r` with number `uc`, and the probability of that choice; None
@@ -185,7 +182,11 @@ impl Scene {
             return (n > 0).then(|| (self.light_index(uc), self.light_select_pdf()));
         }
         match self.beside_environment() {
-            Some(e) => pick(&self.pmf_beside_environment(e, r), uc),
+            // `pick` over [½, ½] or over the environment's 1 alone.
+            Some(e) => Some(match self.shared_beside_environment(e, r) {
+                true => (usize::from(!(uc < 0.5)), 0.5),
+                false => (e, 1.0),
+            }),
             None => pick(&self.choice_pmf(r)[..n], uc),
         }
     }
@@ -197,7 +198,11 @@ impl Scene {
             return self.light_select_pdf();
         }
         match self.beside_environment() {
-            Some(e) => self.pmf_beside_environment(e, r)[i],
+            Some(e) => match self.shared_beside_environment(e, r) {
+                true => 0.5,
+                false if i == e => 1.0,
+                false => 0.0,
+            },
             None => self.choice_pmf(r)[i],
         }
     }
