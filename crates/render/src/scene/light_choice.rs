@@ -184,7 +184,7 @@ impl Scene {
         match self.beside_environment() {
             // `pick` over [½, ½] or over the environment's 1 alone.
             Some(e) => Some(match self.shared_beside_environment(e, r) {
-                true => (usize::from(!(uc < 0.5)), 0.5),
+                true => (if uc < 0.5 { 0 } else { 1 }, 0.5),
                 false => (e, 1.0),
             }),
             None => pick(&self.choice_pmf(r)[..n], uc),
