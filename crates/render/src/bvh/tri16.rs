@@ -95,10 +95,11 @@ impl Tri16 {
     }
 
     /// The nearest lane hit in (0, `t_max`) and its distance; on equal distances the lowest lane.
+    /// `AVX`: in code compiled for AVX2 or AVX-512 ([`M16::bits_in`]).
     #[inline(always)]
-    pub fn closest(&self, r: &Ray16, t_max: f32) -> Option<(usize, f32)> {
+    pub fn closest<const AVX: bool>(&self, r: &Ray16, t_max: f32) -> Option<(usize, f32)> {
         let (t, ok) = self.hits(r, t_max);
-        let mut mask = ok.bits();
+        let mut mask = ok.bits_in::<AVX>();
         if mask == 0 {
             return None;
         }
@@ -112,10 +113,10 @@ impl Tri16 {
         }
     }
 
-    /// True when some lane is hit in (0, `t_max`).
+    /// True when some lane is hit in (0, `t_max`); `AVX` as for [`closest`](Self::closest).
     #[inline(always)]
-    pub fn any(&self, r: &Ray16, t_max: f32) -> bool {
-        self.hits(r, t_max).1.any()
+    pub fn any<const AVX: bool>(&self, r: &Ray16, t_max: f32) -> bool {
+        self.hits(r, t_max).1.bits_in::<AVX>() != 0
     }
 
     /// The triangle in lane `lane` against the sixteen rays of `p`: hit distances and the
@@ -171,8 +172,8 @@ mod tests {
             }
             hits += (mask != 0) as usize;
             multi += (mask.count_ones() > 1) as usize;
-            assert_eq!(pack.closest(&r, t_max), best);
-            assert_eq!(pack.any(&r, t_max), best.is_some());
+            assert_eq!(pack.closest::<false>(&r, t_max), best);
+            assert_eq!(pack.any::<false>(&r, t_max), best.is_some());
         }
         assert!(hits > 2000 && multi > 200, "{hits} packs hit, {multi} more than once");
     }

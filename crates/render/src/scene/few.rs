@@ -129,13 +129,13 @@ impl Few {
 impl Scene {
     /// [`intersect_t`](Self::intersect_t) in a few-primitive scene.
     #[inline(always)]
-    pub(super) fn intersect_t_few(&self, few: &Few, ray: &Ray) -> Option<(usize, f32)> {
+    pub(super) fn intersect_t_few<const AVX: bool>(&self, few: &Few, ray: &Ray) -> Option<(usize, f32)> {
         let mut best: Option<(usize, f32)> = None;
         let mut t_max = ray.t_max;
         if !few.triangles.is_empty() {
             let r16 = Ray16::new(ray.o, ray.d);
             for (pack, prims) in &few.triangles {
-                if let Some((lane, t)) = pack.closest(&r16, t_max) {
+                if let Some((lane, t)) = pack.closest::<AVX>(&r16, t_max) {
                     t_max = t;
                     best = Some((prims[lane] as usize, t));
                 }
@@ -164,12 +164,12 @@ impl Scene {
 
     /// [`occluded_but`](Self::occluded_but) in a few-primitive scene (triangles always count).
     #[inline(always)]
-    pub(super) fn occluded_few(&self, few: &Few, ray: &Ray, skip: Option<u32>) -> bool {
+    pub(super) fn occluded_few<const AVX: bool>(&self, few: &Few, ray: &Ray, skip: Option<u32>) -> bool {
         if !few.triangles.is_empty() {
             let r16 = Ray16::new(ray.o, ray.d);
             // Loops, not `Iterator::any`: a closure's body would not be compiled for the set.
             for (pack, _) in &few.triangles {
-                if pack.any(&r16, ray.t_max) {
+                if pack.any::<AVX>(&r16, ray.t_max) {
                     return true;
                 }
             }

@@ -282,7 +282,7 @@ impl Scene {
     #[inline]
     pub fn intersect_t(&self, ray: &Ray) -> Option<(usize, f32)> {
         if let Some(few) = &self.few {
-            return dispatch!(self.simd, self: Scene, intersect_t_few(few: &few::Few, ray: &Ray) -> Option<(usize, f32)>);
+            return dispatch!(self.simd, self: Scene, intersect_t_few::<AVX>(few: &few::Few, ray: &Ray) -> Option<(usize, f32)>);
         }
         dispatch!(self.simd, self: Scene, closest_walk::<AVX>(ray: &Ray) -> Option<(usize, f32)>)
     }
@@ -312,7 +312,7 @@ impl Scene {
     #[inline]
     pub(crate) fn occluded_but(&self, ray: &Ray, skip: Option<u32>) -> bool {
         if let Some(few) = &self.few {
-            return dispatch!(self.simd, self: Scene, occluded_few(few: &few::Few, ray: &Ray, skip: Option<u32>) -> bool);
+            return dispatch!(self.simd, self: Scene, occluded_few::<AVX>(few: &few::Few, ray: &Ray, skip: Option<u32>) -> bool);
         }
         dispatch!(self.simd, self: Scene, any_walk::<AVX>(ray: &Ray, skip: Option<u32>) -> bool)
     }

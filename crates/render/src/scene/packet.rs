@@ -41,7 +41,7 @@ impl Scene {
         if simd == Simd::Scalar || self.few.as_ref().is_some_and(|f| f.analytic_only()) {
             return std::array::from_fn(|i| if active >> i & 1 != 0 { self.intersect_t(&rays[i]) } else { None });
         }
-        dispatch!(simd, self: Scene, closest_packet(rays: &[Ray; LANES], active: u32) -> PacketHits)
+        dispatch!(simd, self: Scene, closest_packet::<AVX>(rays: &[Ray; LANES], active: u32) -> PacketHits)
     }
 
     /// The lanes of `active` whose rays are blocked, as [`occluded_but`](Self::occluded_but)
@@ -66,25 +66,30 @@ impl Scene {
             for_bits(active, |i| m |= (self.occluded_but(&rays[i], skip[i]) as u32) << i);
             return m;
         }
-        dispatch!(simd, self: Scene, any_packet(rays: &[Ray; LANES], skip: &[Option<u32>; LANES], active: u32) -> u32)
+        dispatch!(simd, self: Scene, any_packet::<AVX>(rays: &[Ray; LANES], skip: &[Option<u32>; LANES], active: u32) -> u32)
     }
 
     #[inline(always)]
-    fn closest_packet(&self, rays: &[Ray; LANES], active: u32) -> PacketHits {
+    fn closest_packet<const AVX: bool>(&self, rays: &[Ray; LANES], active: u32) -> PacketHits {
         let p = RayPacket::new(rays, active);
         let mut t_max = p.t_max;
-        let mut leaf = Closest { scene: self, p: &p, rays, best: [u32::MAX; LANES] };
+        let mut leaf = Closest::<AVX> { scene: self, p: &p, rays, best: [u32::MAX; LANES] };
         self.bvh.walk_packet::<false>(&p, &mut t_max, M16::from_bits(active), &mut leaf);
         std::array::from_fn(|i| (leaf.best[i] != u32::MAX).then(|| (leaf.best[i] as usize, t_max.0[i])))
     }
 
     #[inline(always)]
-    fn any_packet(&self, rays: &[Ray; LANES], skip: &[Option<u32>; LANES], active: u32) -> u32 {
+    fn any_packet<const AVX: bool>(&self, rays: &[Ray; LANES], skip: &[Option<u32>; LANES], active: u32) -> u32 {
         let p = RayPacket::new(rays, active);
         let mut t_max = p.t_max;
         self.bvh
-            .walk_packet::<true>(&p, &mut t_max, M16::from_bits(active), &mut Any { scene: self, p: &p, rays, skip })
-            .bits()
+            .walk_packet::<true>(
+                &p,
+                &mut t_max,
+                M16::from_bits(active),
+                &mut Any::<AVX> { scene: self, p: &p, rays, skip },
+            )
+            .bits_in::<AVX>()
     }
 }
 
@@ -107,33 +112,34 @@ fn coherent(rays: &[Ray; LANES], active: u32) -> bool {
 /// triangle by triangle against the live rays `live` at once: when the rays are fewer. Both give
 /// every (ray, triangle) pair the same operations, and the same nearest hit on ties (lowest lane).
 #[inline(always)]
-fn fewer_rays(live: M16, triangles: usize) -> bool {
-    (live.bits().count_ones() as usize) < triangles
+fn fewer_rays<const AVX: bool>(live: M16, triangles: usize) -> bool {
+    (live.bits_in::<AVX>().count_ones() as usize) < triangles
 }
 
-/// The closest-hit leaf test: the BVH-ordered primitive each lane hits nearest so far.
-struct Closest<'a> {
+/// The closest-hit leaf test: the BVH-ordered primitive each lane hits nearest so far. `AVX`:
+/// compiled for AVX2 or AVX-512.
+struct Closest<'a, const AVX: bool> {
     scene: &'a Scene,
     p: &'a RayPacket,
     rays: &'a [Ray; LANES],
     best: [u32; LANES],
 }
 
-impl PacketLeaf for Closest<'_> {
+impl<const AVX: bool> PacketLeaf for Closest<'_, AVX> {
     #[inline(always)]
     fn leaf(&mut self, packs: Range<usize>, lanes: M16, t_max: &mut F16) -> M16 {
         let s = self.scene;
         for pk in packs {
             let others = if s.others.is_empty() { 0 } else { s.others[pk] };
             let ks = s.bvh.pack(pk);
-            if others == 0 && fewer_rays(lanes, ks.len()) {
+            if others == 0 && fewer_rays::<AVX>(lanes, ks.len()) {
                 // A loop, not `for_bits`: a closure's body would not be compiled for the set.
-                let mut m = lanes.bits();
+                let mut m = lanes.bits_in::<AVX>();
                 while m != 0 {
                     let i = m.trailing_zeros() as usize;
                     m &= m - 1;
                     let r = &self.rays[i];
-                    if let Some((lane, t)) = s.tri16[pk].closest(&Ray16::new(r.o, r.d), t_max.0[i]) {
+                    if let Some((lane, t)) = s.tri16[pk].closest::<AVX>(&Ray16::new(r.o, r.d), t_max.0[i]) {
                         t_max.0[i] = t;
                         self.best[i] = (ks.start + lane) as u32;
                     }
@@ -147,7 +153,7 @@ impl PacketLeaf for Closest<'_> {
                     *t_max = t_max.blend(hit, t);
                     self.best = hit.select_u32([k as u32; LANES], self.best);
                 } else {
-                    for_bits(lanes.bits(), |i| {
+                    for_bits(lanes.bits_in::<AVX>(), |i| {
                         let r = &self.rays[i];
                         if let Some(t) = s.intersect_prim(k, r.o, r.d, t_max.0[i]) {
                             t_max.0[i] = t;
@@ -162,14 +168,14 @@ impl PacketLeaf for Closest<'_> {
 }
 
 /// The any-hit leaf test; lane i does not count the analytic primitives of shape `skip[i]`.
-struct Any<'a> {
+struct Any<'a, const AVX: bool> {
     scene: &'a Scene,
     p: &'a RayPacket,
     rays: &'a [Ray; LANES],
     skip: &'a [Option<u32>; LANES],
 }
 
-impl PacketLeaf for Any<'_> {
+impl<const AVX: bool> PacketLeaf for Any<'_, AVX> {
     #[inline(always)]
     fn leaf(&mut self, packs: Range<usize>, lanes: M16, t_max: &mut F16) -> M16 {
         let s = self.scene;
@@ -177,16 +183,16 @@ impl PacketLeaf for Any<'_> {
         for pk in packs {
             let others = if s.others.is_empty() { 0 } else { s.others[pk] };
             let ks = s.bvh.pack(pk);
-            if others == 0 && fewer_rays(lanes.and_not(blocked), ks.len()) {
-                let (mut b, mut m) = (blocked.bits(), lanes.and_not(blocked).bits());
+            if others == 0 && fewer_rays::<AVX>(lanes.and_not(blocked), ks.len()) {
+                let (mut b, mut m) = (blocked.bits_in::<AVX>(), lanes.and_not(blocked).bits_in::<AVX>());
                 while m != 0 {
                     let i = m.trailing_zeros() as usize;
                     m &= m - 1;
                     let r = &self.rays[i];
-                    b |= (s.tri16[pk].any(&Ray16::new(r.o, r.d), t_max.0[i]) as u32) << i;
+                    b |= (s.tri16[pk].any::<AVX>(&Ray16::new(r.o, r.d), t_max.0[i]) as u32) << i;
                 }
                 blocked = M16::from_bits(b);
-                if !lanes.and_not(blocked).any() {
+                if !lanes.and_not(blocked).any_in::<AVX>() {
                     return blocked;
                 }
                 continue;
@@ -196,8 +202,8 @@ impl PacketLeaf for Any<'_> {
                     blocked = blocked.or(s.tri16[pk].hits_packet(lane, self.p, t_max).1.and(lanes));
                 } else {
                     let shape = s.refs[k].0;
-                    let mut b = blocked.bits();
-                    for_bits(lanes.and_not(blocked).bits(), |i| {
+                    let mut b = blocked.bits_in::<AVX>();
+                    for_bits(lanes.and_not(blocked).bits_in::<AVX>(), |i| {
                         if self.skip[i] != Some(shape) {
                             let r = &self.rays[i];
                             b |= (s.intersect_prim(k, r.o, r.d, t_max.0[i]).is_some() as u32) << i;
@@ -205,7 +211,7 @@ impl PacketLeaf for Any<'_> {
                     });
                     blocked = M16::from_bits(b);
                 }
-                if !lanes.and_not(blocked).any() {
+                if !lanes.and_not(blocked).any_in::<AVX>() {
                     return blocked;
                 }
             }

@@ -8,14 +8,15 @@ use crate::bvh::{Leaf, Ray16, Visit};
 use crate::ray::Ray;
 use std::ops::Range;
 
-/// The closest-hit leaf test: keeps the nearest (pack, lane, distance).
-struct Closest<'a> {
+/// The closest-hit leaf test: keeps the nearest (pack, lane, distance). `AVX`: compiled for
+/// AVX2 or AVX-512.
+struct Closest<'a, const AVX: bool> {
     scene: &'a Scene,
     ray: &'a Ray,
     best: Option<(usize, usize, f32)>,
 }
 
-impl Leaf for Closest<'_> {
+impl<const AVX: bool> Leaf for Closest<'_, AVX> {
     #[inline(always)]
     fn leaf(&mut self, packs: Range<usize>, t_max: &mut f32) -> Visit {
         let (s, ray) = (self.scene, self.ray);
@@ -24,7 +25,7 @@ impl Leaf for Closest<'_> {
         let mixed = !s.others.is_empty();
         for p in packs {
             if !mixed || s.others[p] & HAS_TRIANGLES != 0 {
-                if let Some((lane, t)) = s.tri16[p].closest(&r16, *t_max) {
+                if let Some((lane, t)) = s.tri16[p].closest::<AVX>(&r16, *t_max) {
                     *t_max = t;
                     self.best = Some((p, lane, t));
                 }
@@ -47,20 +48,20 @@ impl Leaf for Closest<'_> {
 }
 
 /// The any-hit leaf test, not counting the analytic primitives of shape `skip`.
-struct Any<'a> {
+struct Any<'a, const AVX: bool> {
     scene: &'a Scene,
     ray: &'a Ray,
     skip: Option<u32>,
 }
 
-impl Leaf for Any<'_> {
+impl<const AVX: bool> Leaf for Any<'_, AVX> {
     #[inline(always)]
     fn leaf(&mut self, packs: Range<usize>, _: &mut f32) -> Visit {
         let (s, ray) = (self.scene, self.ray);
         let r16 = Ray16::new(ray.o, ray.d);
         let mixed = !s.others.is_empty();
         for p in packs {
-            if (!mixed || s.others[p] & HAS_TRIANGLES != 0) && s.tri16[p].any(&r16, ray.t_max) {
+            if (!mixed || s.others[p] & HAS_TRIANGLES != 0) && s.tri16[p].any::<AVX>(&r16, ray.t_max) {
                 return Visit::Stop;
             }
             if mixed {
@@ -83,7 +84,7 @@ impl Scene {
     /// The closest hit through the BVH as (BVH-ordered primitive, distance).
     #[inline(always)]
     pub(super) fn closest_walk<const AVX: bool>(&self, ray: &Ray) -> Option<(usize, f32)> {
-        let mut leaf = Closest { scene: self, ray, best: None };
+        let mut leaf = Closest::<AVX> { scene: self, ray, best: None };
         let mut t_max = ray.t_max;
         self.bvh.walk::<false, AVX>(ray, &mut t_max, &mut leaf);
         leaf.best.map(|(p, lane, t)| (self.bvh.pack(p).start + lane, t))
@@ -93,6 +94,6 @@ impl Scene {
     #[inline(always)]
     pub(super) fn any_walk<const AVX: bool>(&self, ray: &Ray, skip: Option<u32>) -> bool {
         let mut t_max = ray.t_max;
-        self.bvh.walk::<true, AVX>(ray, &mut t_max, &mut Any { scene: self, ray, skip })
+        self.bvh.walk::<true, AVX>(ray, &mut t_max, &mut Any::<AVX> { scene: self, ray, skip })
     }
 }
