@@ -80,11 +80,17 @@ impl Integrator {
             for_bits(active, |i| out[i] = phong::li(scene, rays[i], shadows));
             return out;
         }
+        // A path's first numbers are drawn before the camera rays' query, as `path::li` draws
+        // them, so that the light sample's first table read loads meanwhile.
+        let mut first = [path::VertexNumbers::ZERO; LANES];
+        if let Integrator::Path { .. } = *self {
+            for_bits(active, |i| first[i] = path::VertexNumbers::draw(&mut samplers[i], scene));
+        }
         let hits = scene.intersect_t_packet(rays, active, scene.simd());
         if let (Integrator::Path { max_depth, rr_depth, hide_emitters: false }, Some(diffuse)) =
             (*self, scene.diffuse_meshes())
         {
-            let l = diffuse.li(scene, rays, &hits, samplers, active, max_depth, rr_depth);
+            let l = diffuse.li(scene, rays, &hits, &first, samplers, active, max_depth, rr_depth);
             for_bits(active, |i| out[i] = finite(l[i]));
             return out;
         }
@@ -96,8 +102,8 @@ impl Integrator {
             unlit[i] = match *self {
                 Integrator::Path { max_depth, rr_depth, hide_emitters } => {
                     let hit = hits[i].filter(|_| max_depth > 0).map(|(k, t)| scene.interaction(&ray, k, t));
-                    let first = path::past_hidden(scene, ray, hit, hide_emitters);
-                    path::trace(scene, ray, first, sampler, max_depth, rr_depth, hide_emitters, &mut shadow)
+                    let hit = path::past_hidden(scene, ray, hit, hide_emitters);
+                    path::trace(scene, ray, hit, first[i], sampler, max_depth, rr_depth, hide_emitters, &mut shadow)
                 }
                 Integrator::Direct { samples, hide_emitters } => {
                     let hit = hits[i].map(|(k, t)| scene.interaction(&ray, k, t));

@@ -55,6 +55,9 @@ pub(super) struct VertexNumbers {
 }
 
 impl VertexNumbers {
+    /// Zeros, for lanes without a path.
+    pub(super) const ZERO: VertexNumbers = VertexNumbers { uc: 0.0, uc2: 0.0, u: Vec2::ZERO, bc: 0.0, bu: Vec2::ZERO };
+
     /// Draws them, in the order every integrator of paths draws them.
     #[inline(always)]
     pub(super) fn new(sampler: &mut Sampler) -> Self {
@@ -65,7 +68,7 @@ impl VertexNumbers {
 
     /// Draws them, and starts loading the light sample's first table entry.
     #[inline]
-    fn draw(sampler: &mut Sampler, scene: &Scene) -> Self {
+    pub(super) fn draw(sampler: &mut Sampler, scene: &Scene) -> Self {
         let n = Self::new(sampler);
         scene.prefetch_light(n.uc, n.uc2);
         n
@@ -100,9 +103,12 @@ pub fn past_hidden(
 /// The radiance estimate along `ray` with paths of at most `max_depth` vertices and
 /// Russian roulette from `rr_depth` on.
 pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler, max_depth: u32, rr_depth: u32, hide_emitters: bool) -> Rgb {
+    // The first vertex's numbers before its ray query, so that the light sample's table read
+    // loads meanwhile.
+    let numbers = VertexNumbers::draw(sampler, scene);
     let first = if max_depth == 0 { None } else { first_hit(scene, ray, hide_emitters) };
     let mut lit = Rgb::ZERO;
-    let unlit = trace(scene, ray, first, sampler, max_depth, rr_depth, hide_emitters, &mut |test, c| {
+    let unlit = trace(scene, ray, first, numbers, sampler, max_depth, rr_depth, hide_emitters, &mut |test, c| {
         if scene.visible(test) {
             lit += c;
         }
@@ -113,12 +119,14 @@ pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler, max_depth: u32, rr_dep
 /// The path from camera ray `ray` whose first surface is `first`: returns the radiance found
 /// without shadow rays, and hands each light sample's shadow test (see [`Scene::shadow_ray`])
 /// with the radiance it adds when the light is visible to `shadow`, which may answer it at once
-/// or later: the path does not depend on it.
+/// or later: the path does not depend on it. `numbers` are the first vertex's, drawn from
+/// `sampler` (with [`VertexNumbers::draw`]) before anything else of the path.
 #[allow(clippy::too_many_arguments)]
-pub fn trace(
+pub(super) fn trace(
     scene: &Scene,
     ray: Ray,
     first: Option<SurfaceInteraction>,
+    numbers: VertexNumbers,
     sampler: &mut Sampler,
     max_depth: u32,
     rr_depth: u32,
@@ -143,7 +151,7 @@ pub fn trace(
     // table read can start loading meanwhile. The draws keep their order (a vertex's, then its
     // Russian roulette), and numbers drawn for a vertex the path never reaches go unused: the
     // stream is the sample's own, so the image does not change.
-    let mut numbers = VertexNumbers::draw(sampler, scene);
+    let mut numbers = numbers;
     loop {
         let Some(si) = hit else {
             if !hide_emitters || scattered {

@@ -71,16 +71,21 @@ struct Numbers {
     bu: [Vec2; N],
 }
 
-/// Draws a vertex's numbers from each lane's sampler (the light choice's and the BRDF lobe's
-/// are drawn and unused: one light, one lobe).
+/// The numbers of one vertex per lane (the light choice's and the BRDF lobe's go unused: one
+/// light, one lobe).
 #[inline(always)]
-fn draw(samplers: &mut [Sampler; N]) -> Numbers {
+fn numbers_of(v: &[VertexNumbers; N]) -> Numbers {
     let mut n = Numbers { uc2: [0.0; N], u: [Vec2::ZERO; N], bu: [Vec2::ZERO; N] };
-    for (i, s) in samplers.iter_mut().enumerate() {
-        let v = VertexNumbers::new(s);
-        (n.uc2[i], n.u[i], n.bu[i]) = (v.uc2, v.u, v.bu);
+    for i in 0..N {
+        (n.uc2[i], n.u[i], n.bu[i]) = (v[i].uc2, v[i].u, v[i].bu);
     }
     n
+}
+
+/// Draws a vertex's numbers from each lane's sampler.
+#[inline(always)]
+fn draw(samplers: &mut [Sampler; N]) -> Numbers {
+    numbers_of(&std::array::from_fn(|i| VertexNumbers::new(&mut samplers[i])))
 }
 
 /// A triangle's corners, vertex normals and uvs (zero where the mesh has none) and flip
@@ -222,20 +227,23 @@ fn mesh(scene: &Scene, shape: usize) -> &TriangleMesh {
 
 impl DiffuseMeshes {
     /// The estimates of [`path::li`](super::path::li) along camera rays `rays` of lanes
-    /// `active`, whose closest hits are `hits`, without the finite-value filter.
+    /// `active`, whose closest hits are `hits` and whose first vertices' numbers are `first`
+    /// (drawn from `samplers` before anything else), without the finite-value filter.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn li(
         &self,
         scene: &Scene,
         rays: &[Ray; N],
         hits: &PacketHits,
+        first: &[VertexNumbers; N],
         samplers: &mut [Sampler; N],
         active: u32,
         max_depth: u32,
         rr_depth: u32,
     ) -> [Rgb; N] {
         dispatch!(scene.simd(), self: DiffuseMeshes, trace(scene: &Scene, rays: &[Ray; N], hits: &PacketHits,
-            samplers: &mut [Sampler; N], active: u32, max_depth: u32, rr_depth: u32) -> [Rgb; N])
+            first: &[VertexNumbers; N], samplers: &mut [Sampler; N], active: u32, max_depth: u32, rr_depth: u32)
+            -> [Rgb; N])
     }
 
     #[inline(always)]
@@ -245,6 +253,7 @@ impl DiffuseMeshes {
         scene: &Scene,
         rays: &[Ray; N],
         hits: &PacketHits,
+        first: &[VertexNumbers; N],
         samplers: &mut [Sampler; N],
         active: u32,
         max_depth: u32,
@@ -268,7 +277,7 @@ impl DiffuseMeshes {
         // emission found next; none for the camera.
         let (mut prev_p, mut prev_pdf, mut has_prev) = (V3::ZERO, [0.0f32; N], false);
         let mut alive = if max_depth == 0 { 0 } else { active };
-        let mut numbers = draw(samplers);
+        let mut numbers = numbers_of(first);
         let (mut corners, mut light_corners) = (Corners::new(), Corners::new());
         let (mut shape, mut albedo) = ([0usize; N], V3::ZERO);
         // Per lane: the front and back albedos, whether the back scatters, and whether the
