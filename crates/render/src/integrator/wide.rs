@@ -75,11 +75,7 @@ struct Numbers {
 /// light, one lobe).
 #[inline(always)]
 fn numbers_of(v: &[VertexNumbers; N]) -> Numbers {
-    let mut n = Numbers { uc2: [0.0; N], u: [Vec2::ZERO; N], bu: [Vec2::ZERO; N] };
-    for i in 0..N {
-        (n.uc2[i], n.u[i], n.bu[i]) = (v[i].uc2, v[i].u, v[i].bu);
-    }
-    n
+    Numbers { uc2: v.map(|v| v.uc2), u: v.map(|v| v.u), bu: v.map(|v| v.bu) }
 }
 
 /// Draws a vertex's numbers from each lane's sampler.
