@@ -75,6 +75,13 @@ impl VertexNumbers {
     }
 }
 
+/// The reference point of a light sample at `si` seen from `wo` (local): a model that
+/// transmits takes light from every side, any other from wo's.
+#[inline(always)]
+fn reference(si: &SurfaceInteraction, wo: glam::Vec3, transmits: bool) -> RefPoint {
+    RefPoint { p: si.p, n: if transmits { None } else { Some(si.frame.n * wo.z.signum()) } }
+}
+
 /// The first surface the camera ray meets; with `hide` it passes through area lights.
 pub fn first_hit(scene: &Scene, ray: Ray, hide: bool) -> Option<SurfaceInteraction> {
     past_hidden(scene, ray, scene.intersect(&ray), hide)
@@ -186,18 +193,28 @@ pub(super) fn trace(
         }
         let VertexNumbers { uc, uc2, u, bc, bu } = numbers;
         scene.prefetch_light_cell(uc, uc2, u);
-        let step = scene.material(si.shape).with(&si, |brdf| {
+        // The light is sampled before the model is built, from the reference point the model
+        // likely gives (checked below), while the texels it is built from start loading.
+        let material = scene.material(si.shape);
+        material.prefetch(si.uv);
+        let guess = scene.transmits_guess(si.shape);
+        let light = (guess, scene.sample_light(&reference(&si, wo, guess), uc, uc2, u, true));
+        let step = material.with(&si, |brdf| {
             if wo.z < 0.0 && !brdf.back_side() {
                 return Step::Stop;
             }
             let transmits = brdf.transmits();
             // Where `wi` may lie: on wo's side, or anywhere for a model that transmits.
             let usable = |wi_z: f32| transmits || wi_z * wo.z > 0.0;
-            let n = if transmits { None } else { Some(si.frame.n * wo.z.signum()) };
-            let r = RefPoint { p: si.p, n };
+            let r = reference(&si, wo, transmits);
 
-            // Next-event estimation.
-            if let Some(ls) = scene.sample_light(&r, uc, uc2, u, true) {
+            // Next-event estimation (the light sample drawn again, with the same numbers, where
+            // the guess was wrong).
+            let ls = match light {
+                (drawn_for, ls) if drawn_for == transmits => ls,
+                _ => scene.sample_light(&r, uc, uc2, u, true),
+            };
+            if let Some(ls) = ls {
                 let wi = si.frame.to_local(ls.wi);
                 if usable(wi.z) {
                     let (f, brdf_pdf) = brdf.eval_pdf(wi, wo);

@@ -65,6 +65,19 @@ pub struct SurfaceInteraction {
 }
 
 impl SurfaceInteraction {
+    /// A point at the origin facing +z with uv (½, ½), where a material may be built to learn
+    /// what does not depend on the point.
+    pub const PROBE: SurfaceInteraction = SurfaceInteraction {
+        t: 1.0,
+        p: Vec3::ZERO,
+        ng: Vec3::Z,
+        frame: Frame { s: Vec3::X, t: Vec3::Y, n: Vec3::Z },
+        uv: Vec2::splat(0.5),
+        dp_du: Vec3::X,
+        dp_dv: Vec3::Y,
+        shape: 0,
+    };
+
     /// The interaction at surface point `s` of shape `shape`, `t` along the ray.
     pub fn new(t: f32, s: &SurfacePoint, shape: usize) -> Self {
         SurfaceInteraction { t, p: s.p, ng: s.ng, frame: s.frame(), uv: s.uv, dp_du: s.dp_du, dp_dv: s.dp_dv, shape }
@@ -170,6 +183,7 @@ impl SceneBuilder {
         let environment = lights.iter().position(Light::is_environment);
         let light_bounds = light_choice::bounds(&lights, &shapes);
         let diffuse = diffuse::DiffuseMeshes::of(&shapes, &lights);
+        let transmits = shapes.iter().map(|s| s.material.with(&SurfaceInteraction::PROBE, |b| b.transmits())).collect();
         Ok(Scene {
             camera,
             shapes,
@@ -183,6 +197,7 @@ impl SceneBuilder {
             few,
             refs,
             diffuse,
+            transmits,
             simd: Simd::detect(),
         })
     }
@@ -222,6 +237,9 @@ pub struct Scene {
     refs: Vec<(u32, u32)>,
     /// Set when the batch path integrator can render the scene.
     diffuse: Option<diffuse::DiffuseMeshes>,
+    /// Per shape, whether its model transmits, as built at [`SurfaceInteraction::PROBE`]
+    /// (textured models may differ elsewhere).
+    transmits: Vec<bool>,
     /// The instruction set single-ray queries are compiled for.
     simd: Simd,
 }
@@ -392,6 +410,14 @@ impl Scene {
     #[inline]
     pub fn material(&self, shape: usize) -> &Material {
         &self.shapes[shape].material
+    }
+
+    /// Whether the model of shape `shape` likely transmits ([`brdf::Brdf::transmits`]), known
+    /// without building it: exact unless it is textured (Mitsuba's principled BSDF with a
+    /// textured transmission can switch), so a caller that acts on it checks the model after.
+    #[inline]
+    pub fn transmits_guess(&self, shape: usize) -> bool {
+        self.transmits[shape]
     }
 
     /// The area light on shape `shape`, with its light index.

@@ -251,6 +251,22 @@ impl Bitmap {
         (x0 as i64, y0 as i64, fx - x0, fy - y0)
     }
 
+    /// Starts loading the texels that `eval(uv)` and `eval_1(uv)` read: a hint, which changes
+    /// no result; asked for early, their cache misses overlap other work.
+    #[inline]
+    pub fn prefetch(&self, uv: Vec2) {
+        let uv = self.options.to_uv.apply(uv);
+        let (x0, y0, _, _) = self.footprint(uv);
+        // The two rows of the bilinear footprint (a nearest lookup reads one of these texels).
+        let ks = self.corners(x0, y0);
+        for k in [ks[0], ks[2]] {
+            match &self.texels {
+                Texels::Bytes(b, _) => radiometry::prefetch::prefetch(&b[k]),
+                Texels::Floats(f) => radiometry::prefetch::prefetch(&f[k]),
+            }
+        }
+    }
+
     /// The RGB value at `uv` (before `to_uv`).
     pub fn eval(&self, uv: Vec2) -> Rgb {
         let uv = self.options.to_uv.apply(uv);
