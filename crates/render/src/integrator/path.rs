@@ -36,14 +36,6 @@ struct Previous {
     delta: bool,
 }
 
-/// The path's next step, decided at one vertex with the model there.
-enum Step {
-    /// Continue along this ray with this throughput factor.
-    Continue { ray: Ray, weight: Rgb, eta: f32, prev: Previous, pass_through: bool },
-    /// The path ends here.
-    Stop,
-}
-
 /// The uniform numbers a vertex uses: light choice, light sample, BRDF sample.
 #[derive(Clone, Copy)]
 pub(super) struct VertexNumbers {
@@ -159,8 +151,11 @@ pub(super) fn trace(
     // Russian roulette), and numbers drawn for a vertex the path never reaches go unused: the
     // stream is the sample's own, so the image does not change.
     let mut numbers = numbers;
+    // Values are borrowed rather than moved where they were just written field by field (the
+    // hit, the light sample, the next step): moved, they were copied with wide loads that
+    // waited on the narrow stores (perf).
     loop {
-        let Some(si) = hit else {
+        let Some(si) = hit.as_ref() else {
             if !hide_emitters || scattered {
                 // The light pdf only where a BRDF sample needs its MIS weight.
                 let from = prev.as_ref().filter(|pv| !pv.delta);
@@ -198,21 +193,27 @@ pub(super) fn trace(
         let material = scene.material(si.shape);
         material.prefetch(si.uv);
         let guess = scene.transmits_guess(si.shape);
-        let light = (guess, scene.sample_light(&reference(&si, wo, guess), uc, uc2, u, true));
-        let step = material.with(&si, |brdf| {
+        let guessed = scene.sample_light(&reference(si, wo, guess), uc, uc2, u, true);
+        // The model continues the path from here: it sets the next ray, the step's throughput
+        // factor and index ratio, and what the next vertex's MIS needs; false ends the path.
+        let (mut weight, mut step_eta, mut pass_through) = (Rgb::ZERO, 1.0f32, false);
+        let go_on = material.with(si, |brdf| {
             if wo.z < 0.0 && !brdf.back_side() {
-                return Step::Stop;
+                return false;
             }
             let transmits = brdf.transmits();
             // Where `wi` may lie: on wo's side, or anywhere for a model that transmits.
             let usable = |wi_z: f32| transmits || wi_z * wo.z > 0.0;
-            let r = reference(&si, wo, transmits);
+            let r = reference(si, wo, transmits);
 
             // Next-event estimation (the light sample drawn again, with the same numbers, where
             // the guess was wrong).
-            let ls = match light {
-                (drawn_for, ls) if drawn_for == transmits => ls,
-                _ => scene.sample_light(&r, uc, uc2, u, true),
+            let redrawn;
+            let ls = if guess == transmits {
+                guessed.as_ref()
+            } else {
+                redrawn = scene.sample_light(&r, uc, uc2, u, true);
+                redrawn.as_ref()
             };
             if let Some(ls) = ls {
                 let wi = si.frame.to_local(ls.wi);
@@ -220,31 +221,27 @@ pub(super) fn trace(
                     let (f, brdf_pdf) = brdf.eval_pdf(wi, wo);
                     if !f.is_black() {
                         let w = if ls.delta { 1.0 } else { power_heuristic(ls.pdf, brdf_pdf) };
-                        shadow(scene.shadow_ray(si.p, si.ng, &ls), beta * f * ls.li * (wi.z.abs() * w / ls.pdf));
+                        shadow(scene.shadow_ray(si.p, si.ng, ls), beta * f * ls.li * (wi.z.abs() * w / ls.pdf));
                     }
                 }
             }
 
             // BRDF sampling: the direction the path continues in.
-            let Some(bs) = brdf.sample(wo, bc, bu) else { return Step::Stop };
+            let Some(bs) = brdf.sample(wo, bc, bu) else { return false };
             if !usable(bs.wi.z) || !bs.weight.is_finite() {
-                return Step::Stop;
+                return false;
             }
-            let wi_world = si.frame.to_world(bs.wi);
-            Step::Continue {
-                ray: spawn_ray(si.p, si.ng, wi_world),
-                weight: bs.weight,
-                eta: bs.eta,
-                prev: Previous { r, pdf: bs.pdf, delta: bs.delta },
-                pass_through: bs.delta && bs.wi == -wo,
-            }
+            ray = spawn_ray(si.p, si.ng, si.frame.to_world(bs.wi));
+            (weight, step_eta, pass_through) = (bs.weight, bs.eta, bs.delta && bs.wi == -wo);
+            prev = Some(Previous { r, pdf: bs.pdf, delta: bs.delta });
+            true
         });
-        let Step::Continue { ray: next, weight, eta: step_eta, prev: p, pass_through } = step else { break };
+        if !go_on {
+            break;
+        }
         scattered |= !pass_through;
         beta = beta * weight;
         eta *= step_eta;
-        prev = Some(p);
-        ray = next;
         depth += 1;
 
         // Russian roulette: survive with q = min(max channel of β η², 0.95), reweight by 1/q.
