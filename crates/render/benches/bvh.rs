@@ -27,7 +27,7 @@ use render::bvh::Bvh;
 use render::camera::{look_at, Camera, FovAxis};
 use render::ray::{spawn_ray, spawn_ray_to, Ray};
 use render::sampler::Sampler;
-use render::scene::lanes_of;
+use render::scene::{lanes_of, LightNumbers};
 use render::shape::mesh::intersect_triangle;
 use render::shape::{Aabb, Geometry, TriangleMesh};
 use render::{Scene, SceneBuilder, Shape};
@@ -336,8 +336,8 @@ fn cost_split(torus: &Scene) {
         shadows.clear();
         for ((_, si), s) in interactions.iter().zip(samplers.iter_mut()) {
             let r = RefPoint { p: si.p, n: Some(si.frame.n) };
-            if let Some(ls) = scene.sample_light(&r, s.next_1d(), s.next_1d(), s.next_2d(), true) {
-                if let Some((ray, _)) = scene.shadow_ray(si.p, si.ng, &ls) {
+            for ls in scene.sample_lights(&r, &LightNumbers::draw(s, &scene), true).iter().flatten() {
+                if let Some((ray, _)) = scene.shadow_ray(si.p, si.ng, ls) {
                     shadows.push(ray);
                 }
             }

@@ -242,6 +242,24 @@ fn lambert_plane_under_a_point_light_matches_the_inverse_square_law() {
 }
 
 #[test]
+fn lambert_plane_under_a_point_light_and_a_sky_is_exact_at_every_sample() {
+    // L = ρ/π · I cos θ / r² + ρ L_sky. The sky is sampled at every vertex beside the point
+    // light (not chosen against it), cosine-weighted like the BRDF sample that also finds it,
+    // so the two MIS halves add to ρ L_sky exactly: each sample is exact for its film position.
+    let (albedo, intensity, sky) = (0.5f64, 10.0f64, 0.3f64);
+    let light = Vec3::new(0.3, -0.2, 1.0);
+    let cam = camera(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 30.0, 32, 24);
+    let mut b = plane_scene(&cam, albedo);
+    b.light(Light::Constant(ConstantEnv { radiance: Rgb::splat(sky as f32) }));
+    b.light(Light::Point(PointLight { position: light, intensity: Rgb::splat(intensity as f32) }));
+    check_plane_against(&b.build().unwrap(), &cam, 16, true, "point light and sky", |p| {
+        let to_light = light.as_dvec3() - p;
+        let r2 = to_light.length_squared();
+        albedo / std::f64::consts::PI * intensity * (to_light.z / r2.sqrt()) / r2 + albedo * sky
+    });
+}
+
+#[test]
 fn lambert_plane_under_a_sphere_light_matches_the_closed_form() {
     // A sphere of radiance L and radius R wholly above the horizon gives E = π L (R/d)² cos θ
     // (it looks like a disk of solid-angle-weighted area π sin²α, sin α = R/d).

@@ -15,7 +15,7 @@ use crate::integrator::{finite, power_heuristic};
 use crate::light::RefPoint;
 use crate::ray::{spawn_ray, Ray};
 use crate::sampler::Sampler;
-use crate::scene::{Scene, ShadowTest, SurfaceInteraction};
+use crate::scene::{LightNumbers, Scene, ShadowTest, SurfaceInteraction};
 use radiometry::Rgb;
 
 /// The sample counts of the estimator.
@@ -79,18 +79,20 @@ pub fn estimate(
         let usable = |wi_z: f32| transmits || wi_z * wo.z > 0.0;
         let r = RefPoint { p: si.p, n: if transmits { None } else { Some(si.frame.n * wo.z.signum()) } };
         for _ in 0..n.emitter {
-            let (uc, uc2, u) = (sampler.next_1d(), sampler.next_1d(), sampler.next_2d());
-            let Some(ls) = scene.sample_light(&r, uc, uc2, u, n.bsdf > 0) else { continue };
-            let wi = si.frame.to_local(ls.wi);
-            if !usable(wi.z) {
-                continue;
+            let numbers = LightNumbers::draw(sampler, scene);
+            for ls in scene.sample_lights(&r, &numbers, n.bsdf > 0).iter().flatten() {
+                let wi = si.frame.to_local(ls.wi);
+                if !usable(wi.z) {
+                    continue;
+                }
+                let (f, brdf_pdf) = brdf.eval_pdf(wi, wo);
+                if f.is_black() {
+                    continue;
+                }
+                let w =
+                    if ls.delta { 1.0 } else { power_heuristic(ls.pdf * frac_e, brdf_pdf * frac_b) / n.emitter as f32 };
+                shadow(scene.shadow_ray(si.p, si.ng, ls), f * ls.li * (wi.z.abs() * w / ls.pdf));
             }
-            let (f, brdf_pdf) = brdf.eval_pdf(wi, wo);
-            if f.is_black() {
-                continue;
-            }
-            let w = if ls.delta { 1.0 } else { power_heuristic(ls.pdf * frac_e, brdf_pdf * frac_b) / n.emitter as f32 };
-            shadow(scene.shadow_ray(si.p, si.ng, &ls), f * ls.li * (wi.z.abs() * w / ls.pdf));
         }
         for _ in 0..n.bsdf {
             let (uc, u) = (sampler.next_1d(), sampler.next_2d());

@@ -25,7 +25,7 @@ use crate::integrator::{finite, power_heuristic};
 use crate::light::RefPoint;
 use crate::ray::{spawn_ray, Ray};
 use crate::sampler::Sampler;
-use crate::scene::{Scene, ShadowTest, SurfaceInteraction};
+use crate::scene::{LightNumbers, Scene, ShadowTest, SurfaceInteraction};
 use glam::Vec2;
 use radiometry::Rgb;
 
@@ -36,34 +36,25 @@ struct Previous {
     delta: bool,
 }
 
-/// The uniform numbers a vertex uses: light choice, light sample, BRDF sample.
+/// The uniform numbers a vertex uses: its light samples', then its BRDF sample's.
 #[derive(Clone, Copy)]
 pub(super) struct VertexNumbers {
-    pub uc: f32,
-    pub uc2: f32,
-    pub u: Vec2,
+    pub light: LightNumbers,
     pub bc: f32,
     pub bu: Vec2,
 }
 
 impl VertexNumbers {
     /// Zeros, for lanes without a path.
-    pub(super) const ZERO: VertexNumbers = VertexNumbers { uc: 0.0, uc2: 0.0, u: Vec2::ZERO, bc: 0.0, bu: Vec2::ZERO };
+    pub(super) const ZERO: VertexNumbers = VertexNumbers { light: LightNumbers::ZERO, bc: 0.0, bu: Vec2::ZERO };
 
-    /// Draws them, in the order every integrator of paths draws them.
-    #[inline(always)]
-    pub(super) fn new(sampler: &mut Sampler) -> Self {
-        let (uc, uc2, u) = (sampler.next_1d(), sampler.next_1d(), sampler.next_2d());
-        let (bc, bu) = (sampler.next_1d(), sampler.next_2d());
-        VertexNumbers { uc, uc2, u, bc, bu }
-    }
-
-    /// Draws them, and starts loading the light sample's first table entry.
+    /// Draws them, in the order every integrator of paths draws them, and starts loading the
+    /// light sample's first table entry.
     #[inline]
     pub(super) fn draw(sampler: &mut Sampler, scene: &Scene) -> Self {
-        let n = Self::new(sampler);
-        scene.prefetch_light(n.uc, n.uc2);
-        n
+        let light = LightNumbers::draw(sampler, scene);
+        let (bc, bu) = (sampler.next_1d(), sampler.next_2d());
+        VertexNumbers { light, bc, bu }
     }
 }
 
@@ -186,14 +177,14 @@ pub(super) fn trace(
         if !(wo.z != 0.0) {
             break;
         }
-        let VertexNumbers { uc, uc2, u, bc, bu } = numbers;
-        scene.prefetch_light_cell(uc, uc2, u);
+        let VertexNumbers { light: ln, bc, bu } = numbers;
+        scene.prefetch_light_cell(&ln);
         // The light is sampled before the model is built, from the reference point the model
         // likely gives (checked below), while the texels it is built from start loading.
         let material = scene.material(si.shape);
         material.prefetch(si.uv);
         let guess = scene.transmits_guess(si.shape);
-        let guessed = scene.sample_light(&reference(si, wo, guess), uc, uc2, u, true);
+        let guessed = scene.sample_lights(&reference(si, wo, guess), &ln, true);
         // The model continues the path from here: it sets the next ray, the step's throughput
         // factor and index ratio, and what the next vertex's MIS needs; false ends the path.
         let (mut weight, mut step_eta, mut pass_through) = (Rgb::ZERO, 1.0f32, false);
@@ -206,16 +197,16 @@ pub(super) fn trace(
             let usable = |wi_z: f32| transmits || wi_z * wo.z > 0.0;
             let r = reference(si, wo, transmits);
 
-            // Next-event estimation (the light sample drawn again, with the same numbers, where
+            // Next-event estimation (the light samples drawn again, with the same numbers, where
             // the guess was wrong).
             let redrawn;
-            let ls = if guess == transmits {
-                guessed.as_ref()
+            let samples = if guess == transmits {
+                &guessed
             } else {
-                redrawn = scene.sample_light(&r, uc, uc2, u, true);
-                redrawn.as_ref()
+                redrawn = scene.sample_lights(&r, &ln, true);
+                &redrawn
             };
-            if let Some(ls) = ls {
+            for ls in samples.iter().flatten() {
                 let wi = si.frame.to_local(ls.wi);
                 if usable(wi.z) {
                     let (f, brdf_pdf) = brdf.eval_pdf(wi, wo);

@@ -75,13 +75,13 @@ struct Numbers {
 /// light, one lobe).
 #[inline(always)]
 fn numbers_of(v: &[VertexNumbers; N]) -> Numbers {
-    Numbers { uc2: v.map(|v| v.uc2), u: v.map(|v| v.u), bu: v.map(|v| v.bu) }
+    Numbers { uc2: v.map(|v| v.light.uc2), u: v.map(|v| v.light.u), bu: v.map(|v| v.bu) }
 }
 
 /// Draws a vertex's numbers from each lane's sampler.
 #[inline(always)]
-fn draw(samplers: &mut [Sampler; N]) -> Numbers {
-    numbers_of(&std::array::from_fn(|i| VertexNumbers::new(&mut samplers[i])))
+fn draw(samplers: &mut [Sampler; N], scene: &Scene) -> Numbers {
+    numbers_of(&std::array::from_fn(|i| VertexNumbers::draw(&mut samplers[i], scene)))
 }
 
 /// A triangle's corners, vertex normals and uvs (zero where the mesh has none) and flip
@@ -427,7 +427,7 @@ impl DiffuseMeshes {
                     alive &= !(1 << i);
                 }
             }
-            numbers = draw(samplers);
+            numbers = draw(samplers, scene);
             for i in Bits(alive) {
                 hit[i] = scene.intersect_t(&Ray::new(o.get(i), d.get(i)));
             }

@@ -1,8 +1,9 @@
-//! Which light a vertex samples. With one light there is no choice, and with more than
-//! [`ADAPTIVE_MAX`] the choice is uniform, as in Mitsuba 3. Otherwise, as pbrt-v4's light sampler
-//! does (Pharr, Jakob & Humphreys 2023, §12.6), the environment, if any, takes half the choices,
-//! and the other lights share the rest in proportion to an estimate of the irradiance each
-//! gives the reference point unoccluded:
+//! Which light a vertex samples. An environment that shares the scene with other lights is
+//! not chosen but sampled beside the choice ([`light_sample`](super::light_sample)); the choice
+//! is among the other lights. With one there is no choice, and with more than
+//! [`ADAPTIVE_MAX`] the choice is uniform, as in Mitsuba 3. Otherwise, as pbrt-v4's light
+//! sampler does (Pharr, Jakob & Humphreys 2023, §12.6), they are chosen in proportion to an
+//! estimate of the irradiance each gives the reference point unoccluded:
 //!
 //! - a point, spot or directional light: exactly its irradiance, E = I·cos θ / r² (the light
 //!   sample itself), zero behind the surface;
@@ -14,8 +15,9 @@
 //! light from behind it adds nothing), so the choice changes the noise, never the mean. A
 //! surface that only reflects passes its normal; one that transmits passes none. An
 //! environment's light is found by BSDF samples as much as by light samples, and no position
-//! bounds it, so it keeps a fixed share (giving it one by its mean irradiance made a floor
-//! under a point light and the sky noisier than the uniform choice).
+//! bounds it, so no estimate could weigh it against the others: given a fixed share of the
+//! choices, it left a floor under a point light and the sky noisy where each vertex either
+//! sampled the one or the other.
 
 use super::{Scene, Shape};
 use crate::light::{Light, RefPoint};
@@ -33,7 +35,7 @@ pub(super) enum Bound {
     Delta,
     /// An area light within the sphere (centre, radius²) emitting at most `power` = L_max·A.
     Sphere { centre: Vec3, r2: f32, power: f32 },
-    /// An environment: it takes a fixed share of the choices.
+    /// An environment: it is sampled beside the choice, or is the only light.
     Infinite,
 }
 
@@ -102,7 +104,7 @@ impl Scene {
                 };
                 power * cos / d2.max(r2).max(f32::MIN_POSITIVE)
             }
-            // No weight of its own: the environment's share is fixed (`choice_pmf`).
+            // Not among the choices (see the module's doc).
             Bound::Infinite => 0.0,
         };
         // Finite, and small enough that the sum of all stays finite.
@@ -113,98 +115,75 @@ impl Scene {
         }
     }
 
-    /// Whether light `i`'s estimate at `r` is positive, without computing it for a point light
-    /// (the sign of the cosine is the sign of the unnormalised one).
+    /// The environment's index where it is sampled at every vertex beside the choice, not
+    /// chosen: where it shares the scene with other lights.
     #[inline]
-    fn can_light(&self, i: usize, r: &RefPoint) -> bool {
-        match &self.lights[i] {
-            Light::Point(l) => {
-                let v = l.position - r.p;
-                l.intensity.max_channel() > 0.0 && v != Vec3::ZERO && r.n.is_none_or(|n| v.dot(n) > 0.0)
-            }
-            _ => self.light_weight(i, r) > 0.0,
-        }
+    pub(super) fn split_environment(&self) -> Option<usize> {
+        self.environment.filter(|_| self.lights.len() > 1)
     }
 
-    /// Whether the choice depends on the reference point (2 to [`ADAPTIVE_MAX`] lights); else
-    /// it is uniform.
+    /// How many lights the choice is among: all but a split environment.
+    #[inline]
+    fn choice_count(&self) -> usize {
+        self.lights.len() - usize::from(self.split_environment().is_some())
+    }
+
+    /// Whether the choice depends on the reference point (2 to [`ADAPTIVE_MAX`] lights to
+    /// choose from); else it is uniform.
     #[inline]
     pub(super) fn choice_adapts(&self) -> bool {
-        (2..=ADAPTIVE_MAX).contains(&self.lights.len())
+        (2..=ADAPTIVE_MAX).contains(&self.choice_count())
     }
 
-    /// The probability of choosing each light at `r` (entries past the last light are 0).
+    /// The probability of choosing each light at `r`, by light index (a split environment's
+    /// entry is 0, as are those past the last light).
     #[inline]
-    fn choice_pmf(&self, r: &RefPoint) -> [f32; ADAPTIVE_MAX] {
+    fn choice_pmf(&self, r: &RefPoint) -> [f32; ADAPTIVE_MAX + 1] {
         let n = self.lights.len();
-        let mut p = [0.0f32; ADAPTIVE_MAX];
+        let mut p = [0.0f32; ADAPTIVE_MAX + 1];
         let mut sum = 0.0f32;
         for (i, p) in p[..n].iter_mut().enumerate() {
             *p = self.light_weight(i, r);
             sum += *p;
         }
-        let share = match (sum > 0.0, self.environment) {
-            (false, _) => 0.0,
-            (true, Some(_)) => 0.5,
-            (true, None) => 1.0,
-        };
-        let scale = if share > 0.0 { share / sum } else { 0.0 };
+        let scale = if sum > 0.0 { 1.0 / sum } else { 0.0 };
         for p in &mut p[..n] {
             *p *= scale;
-        }
-        if let Some(e) = self.environment {
-            p[e] = 1.0 - share;
         }
         p
     }
 
-    /// The environment's index when it has exactly one light beside it.
-    #[inline]
-    fn beside_environment(&self) -> Option<usize> {
-        self.environment.filter(|_| self.lights.len() == 2)
-    }
-
-    /// [`choice_pmf`](Self::choice_pmf) for one light beside environment `e`: only whether
-    /// that light can light `r` matters (half each, or all to the environment). The answer is
-    /// a flag, not a two-entry array: written lane by lane and read back whole, the array
-    /// stalled on the store (perf).
-    #[inline]
-    fn shared_beside_environment(&self, e: usize, r: &RefPoint) -> bool {
-        self.can_light(1 - e, r)
-    }
-
     /// The light chosen from `r` with number `uc`, and the probability of that choice; None
-    /// when no light can light `r`.
+    /// when no light can light `r` (or there is none to choose).
     #[inline]
     pub(super) fn choose_light(&self, r: &RefPoint, uc: f32) -> Option<(usize, f32)> {
-        let n = self.lights.len();
+        let m = self.choice_count();
+        if m == 0 {
+            return None;
+        }
         if !self.choice_adapts() {
-            return (n > 0).then(|| (self.light_index(uc), self.light_select_pdf()));
+            // The k-th light of the choice, skipping a split environment.
+            let k = ((uc * m as f32) as usize).min(m - 1);
+            let light = match self.split_environment() {
+                Some(e) if k >= e => k + 1,
+                _ => k,
+            };
+            return Some((light, 1.0 / m as f32));
         }
-        match self.beside_environment() {
-            // `pick` over [½, ½] or over the environment's 1 alone.
-            Some(e) => Some(match self.shared_beside_environment(e, r) {
-                true => (if uc < 0.5 { 0 } else { 1 }, 0.5),
-                false => (e, 1.0),
-            }),
-            None => pick(&self.choice_pmf(r)[..n], uc),
-        }
+        pick(&self.choice_pmf(r)[..self.lights.len()], uc)
     }
 
-    /// The probability that [`choose_light`](Self::choose_light) at `r` chooses light `i`.
+    /// The probability that light `i` is sampled from `r`: chosen by
+    /// [`choose_light`](Self::choose_light), or 1 for a split environment.
     #[inline]
     pub fn light_choice_pdf(&self, i: usize, r: &RefPoint) -> f32 {
+        if self.split_environment() == Some(i) {
+            return 1.0;
+        }
         if !self.choice_adapts() {
-            return self.light_select_pdf();
+            return 1.0 / self.choice_count().max(1) as f32;
         }
-        match self.beside_environment() {
-            Some(e) => match self.shared_beside_environment(e, r) {
-                true => 0.5,
-                false if i == e => 1.0,
-                false => 0.0,
-            },
-            None => self.choice_pmf(r)[i],
-        }
+        self.choice_pmf(r)[i]
     }
 }
 
@@ -232,7 +211,7 @@ mod tests {
     use crate::camera::{look_at, Camera, FovAxis};
     use crate::light::{ConstantEnv, DirectionalLight, PointLight, SpotLight};
     use crate::sampler::Sampler;
-    use crate::scene::SceneBuilder;
+    use crate::scene::{LightNumbers, SceneBuilder};
     use crate::shape::{Rectangle, Sphere};
     use crate::texture::Texture;
     use glam::Mat4;
@@ -288,29 +267,53 @@ mod tests {
     }
 
     #[test]
-    fn one_light_beside_the_environment_gets_half_where_it_can_light() {
+    fn the_environment_beside_other_lights_is_sampled_at_every_vertex_and_never_chosen() {
+        let point = |x: f32| Light::Point(PointLight { position: Vec3::new(x, 1.0, -1.0), intensity: Rgb::splat(3.0) });
+        let env = || Light::Constant(ConstantEnv { radiance: Rgb::splat(0.1) });
+        // Alone, the environment is the choice.
         let mut b = builder();
-        b.light(Light::Constant(ConstantEnv { radiance: Rgb::splat(0.1) }));
-        b.light(Light::Point(PointLight { position: Vec3::new(1.5, 1.0, -1.0), intensity: Rgb::splat(3.0) }));
-        let scene = b.build().unwrap();
-        let (mut front, mut behind) = (0, 0);
-        for r in points(400) {
-            // What the general rule gives: the environment's half, and the rest to the light
-            // exactly where its irradiance estimate is positive.
-            let lit = scene.light_weight(1, &r) > 0.0;
-            let want = if lit { 0.5 } else { 0.0 };
-            assert_eq!(scene.light_choice_pdf(1, &r), want, "{r:?}");
-            assert_eq!(scene.light_choice_pdf(0, &r), 1.0 - want, "{r:?}");
-            // The environment (light 0) takes the numbers below its share, the light the rest.
-            assert_eq!(scene.choose_light(&r, 0.25), Some((0, 1.0 - want)), "{r:?}");
-            assert_eq!(scene.choose_light(&r, 0.75), if lit { Some((1, 0.5)) } else { Some((0, 1.0)) }, "{r:?}");
-            if lit {
-                front += 1;
-            } else {
-                behind += 1;
+        b.light(env());
+        let alone = b.build().unwrap();
+        // Beside one light, the environment first; beside two, the environment between them.
+        let mut b = builder();
+        b.light(env()).light(point(1.5));
+        let one = b.build().unwrap();
+        let mut b = builder();
+        b.light(point(1.5)).light(env()).light(point(-1.5));
+        let two = b.build().unwrap();
+        let mut s = Sampler::new(5, 0, 0);
+        for r in points(200) {
+            let n = LightNumbers::draw(&mut s, &alone);
+            assert_eq!((n.ue, n.ue2), (0.0, glam::Vec2::ZERO), "no numbers of its own when alone");
+            assert_eq!(alone.choose_light(&r, n.uc), Some((0, 1.0)));
+            assert_eq!(alone.light_choice_pdf(0, &r), 1.0);
+            let [chosen, beside] = alone.sample_lights(&r, &n, true);
+            assert!(chosen.is_some() && beside.is_none());
+
+            // The one other light is always chosen, the environment always sampled.
+            assert_eq!(one.light_choice_pdf(0, &r), 1.0);
+            assert_eq!(one.light_choice_pdf(1, &r), 1.0);
+            for uc in [0.0, 0.3, 0.7, 0.999] {
+                assert_eq!(one.choose_light(&r, uc), Some((1, 1.0)));
+            }
+            let n = LightNumbers::draw(&mut s, &one);
+            let [chosen, beside] = one.sample_lights(&r, &n, true);
+            assert!(chosen.is_none_or(|c| c.delta), "the point light's sample, where it can light r");
+            let beside = beside.expect("the environment lights every point");
+            assert!(!beside.delta && beside.dist == f32::INFINITY);
+            let pdf = one.environment_eval(beside.wi, Some(&r), true).unwrap().1;
+            assert!((pdf - beside.pdf).abs() <= 1e-5 * beside.pdf, "{pdf} against {}", beside.pdf);
+
+            // Two lights share the choice, skipping the environment, which keeps its 1.
+            assert_eq!(two.light_choice_pdf(1, &r), 1.0);
+            let (p0, p2) = (two.light_choice_pdf(0, &r), two.light_choice_pdf(2, &r));
+            assert!(p0 + p2 == 0.0 || (p0 + p2 - 1.0).abs() < 1e-6, "{p0} + {p2}");
+            for k in 0..64 {
+                if let Some((i, p)) = two.choose_light(&r, (k as f32 + 0.5) / 64.0) {
+                    assert!(i != 1 && p == two.light_choice_pdf(i, &r) && p > 0.0, "light {i} with {p}");
+                }
             }
         }
-        assert!(front > 0 && behind > 0, "points on both sides: {front} in front, {behind} behind");
     }
 
     #[test]
@@ -320,17 +323,25 @@ mod tests {
         const K: usize = 4096;
         for r in points(200) {
             let pmf: Vec<f32> = (0..6).map(|i| scene.light_choice_pdf(i, &r)).collect();
-            let total: f32 = pmf.iter().sum();
+            // The environment is sampled beside the choice among the other five.
+            let env = scene.environment().unwrap().0;
+            assert_eq!(pmf[env], 1.0);
+            let total = pmf.iter().sum::<f32>() - 1.0;
+            if total == 0.0 {
+                // No other light can light r: nothing is chosen.
+                assert_eq!(scene.choose_light(&r, 0.5), None);
+                continue;
+            }
             assert!((total - 1.0).abs() < 1e-5, "{pmf:?} sums to {total}");
             // Numbers evenly spread over [0, 1): each light is chosen in the share its
             // probability gives, to within one number.
             let mut count = [0usize; 6];
             for k in 0..K {
                 let (i, p) = scene.choose_light(&r, (k as f32 + 0.5) / K as f32).unwrap();
-                assert_eq!(p, pmf[i]);
+                assert!(i != env && p == pmf[i], "light {i} with {p}");
                 count[i] += 1;
             }
-            for i in 0..6 {
+            for i in (0..6).filter(|&i| i != env) {
                 let share = count[i] as f32 / K as f32;
                 assert!((share - pmf[i]).abs() <= 1.5 / K as f32, "light {i}: chosen {share}, pmf {}", pmf[i]);
             }
@@ -369,24 +380,26 @@ mod tests {
         let mut s = Sampler::new(3, 0, 0);
         let mut checked = 0;
         for r in points(500) {
-            let Some(ls) = scene.sample_light(&r, s.next_1d(), s.next_1d(), s.next_2d(), false) else { continue };
-            if ls.delta {
-                continue;
-            }
-            let pdf = match ls.shape {
-                Some(shape) => {
-                    let (i, _) = scene.area_light(shape).unwrap();
-                    let n = match &scene.shapes[shape].geometry {
-                        Geometry::Rectangle(q) => q.n,
-                        Geometry::Sphere(sp) => (ls.p - sp.center).normalize(),
-                        _ => unreachable!(),
-                    };
-                    scene.light_pdf(i, &r, ls.wi, Some((ls.p, n)), false)
+            let n = LightNumbers::draw(&mut s, &scene);
+            for ls in scene.sample_lights(&r, &n, false).iter().flatten() {
+                if ls.delta {
+                    continue;
                 }
-                None => scene.environment_eval(ls.wi, Some(&r), false).unwrap().1,
-            };
-            assert!((pdf - ls.pdf).abs() <= 1e-3 * ls.pdf, "{pdf} against {} from {r:?}", ls.pdf);
-            checked += 1;
+                let pdf = match ls.shape {
+                    Some(shape) => {
+                        let (i, _) = scene.area_light(shape).unwrap();
+                        let n = match &scene.shapes[shape].geometry {
+                            Geometry::Rectangle(q) => q.n,
+                            Geometry::Sphere(sp) => (ls.p - sp.center).normalize(),
+                            _ => unreachable!(),
+                        };
+                        scene.light_pdf(i, &r, ls.wi, Some((ls.p, n)), false)
+                    }
+                    None => scene.environment_eval(ls.wi, Some(&r), false).unwrap().1,
+                };
+                assert!((pdf - ls.pdf).abs() <= 1e-3 * ls.pdf, "{pdf} against {} from {r:?}", ls.pdf);
+                checked += 1;
+            }
         }
         assert!(checked > 100, "{checked}");
     }

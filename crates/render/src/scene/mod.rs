@@ -4,17 +4,18 @@
 mod diffuse;
 mod few;
 mod light_choice;
+mod light_sample;
 mod packet;
 mod walk;
 
 pub(crate) use diffuse::DiffuseMeshes;
+pub use light_sample::LightNumbers;
 pub use packet::{lanes_of, PacketHits};
 
 use crate::bvh::{Bvh, Tri16};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
-use crate::light::envmap::EnvDensity;
-use crate::light::{AreaLight, Light, LightSample, RefPoint};
+use crate::light::{AreaLight, Light, LightSample};
 use crate::material::Material;
 use crate::ray::{spawn_ray, spawn_ray_to, surface_epsilon, Ray};
 use crate::shape::mesh::intersect_triangle;
@@ -22,7 +23,7 @@ use crate::shape::{Geometry, SurfacePoint};
 use crate::simd::{dispatch, Simd};
 use crate::texture::Texture;
 use glam::{Vec2, Vec3};
-use radiometry::{Frame, Rgb};
+use radiometry::Frame;
 
 /// A shape with its material and, when it glows, its emitted radiance.
 #[derive(Clone, Debug)]
@@ -434,108 +435,6 @@ impl Scene {
     #[inline]
     pub fn environment(&self) -> Option<(usize, &Light)> {
         self.environment.map(|i| (i, &self.lights[i]))
-    }
-
-    /// The environment's radiance along escaping direction `d` and, when `from` is given, the
-    /// density (choice included) with which `sample_light(…, mis)` from there gives `d` (else
-    /// 0); one map lookup serves both. None without an environment.
-    #[inline]
-    pub fn environment_eval(&self, d: Vec3, from: Option<&RefPoint>, mis: bool) -> Option<(Rgb, f32)> {
-        let env = self.environment?;
-        let (le, pdf) = match &self.lights[env] {
-            Light::Constant(c) => (c.radiance, from.map_or(0.0, |r| c.pdf(r, d))),
-            Light::EnvMap(e) if from.is_some() => e.eval_pdf_by(d, env_density(mis)),
-            Light::EnvMap(e) => (e.eval(d), 0.0),
-            _ => return None,
-        };
-        Some((le, from.map_or(0.0, |r| pdf * self.light_choice_pdf(env, r))))
-    }
-
-    /// Probability of choosing any one light uniformly (with one light, or more than
-    /// [`light_choice::ADAPTIVE_MAX`]; see [`light_choice_pdf`](Self::light_choice_pdf)).
-    #[inline]
-    pub fn light_select_pdf(&self) -> f32 {
-        1.0 / self.lights.len().max(1) as f32
-    }
-
-    /// The light `sample_light(_, uc, …)` chooses (0 when there is none).
-    #[inline]
-    fn light_index(&self, uc: f32) -> usize {
-        let n = self.lights.len();
-        ((uc * n as f32) as usize).min(n.saturating_sub(1))
-    }
-
-    /// Starts loading the first table entry that `sample_light(_, uc, uc2, _)` will read, where
-    /// the light it chooses has one (an environment map's cell choice). A hint: called before
-    /// other work, such as the ray query that finds the point the light is sampled from, it
-    /// hides the cache miss; it changes no result.
-    #[inline]
-    pub fn prefetch_light(&self, uc: f32, uc2: f32) {
-        if let Some(Light::EnvMap(e)) = self.lights.get(self.likely_light(uc)) {
-            e.prefetch_sample(uc2, EnvDensity::Compensated);
-        }
-    }
-
-    /// The light `sample_light(_, uc, …)` is likely to choose, known before the reference
-    /// point is: the uniform choice, or where the choice depends on the point, the environment.
-    #[inline]
-    fn likely_light(&self, uc: f32) -> usize {
-        match self.environment {
-            Some(i) if self.choice_adapts() => i,
-            _ => self.light_index(uc),
-        }
-    }
-
-    /// After [`prefetch_light`](Self::prefetch_light) has had time, starts loading what
-    /// `sample_light(_, uc, uc2, u)` reads next (the map cell's corners and texels).
-    #[inline]
-    pub fn prefetch_light_cell(&self, uc: f32, uc2: f32, u: Vec2) {
-        if let Some(Light::EnvMap(e)) = self.lights.get(self.likely_light(uc)) {
-            e.prefetch_sample_cell(uc2, u, EnvDensity::Compensated);
-        }
-    }
-
-    /// Chooses a light ([`light_choice`]) and samples it; the returned pdf includes the choice.
-    /// `mis`: a BSDF sample weighted by multiple importance sampling goes with it, so that an
-    /// environment map may be sampled by its compensated density ([`EnvDensity`]).
-    pub fn sample_light(&self, r: &RefPoint, uc: f32, uc2: f32, u: Vec2, mis: bool) -> Option<LightSample> {
-        let (light, choice) = self.choose_light(r, uc)?;
-        let mut s = match &self.lights[light] {
-            Light::Point(l) => l.sample(r)?,
-            Light::Spot(l) => l.sample(r)?,
-            Light::Directional(l) => l.sample(r)?,
-            Light::Area(a) => a.sample(&self.shapes[a.shape].geometry, r, uc2, u)?,
-            Light::Constant(c) => c.sample(r, u)?,
-            Light::EnvMap(e) => e.sample_by(r.p, uc2, u, env_density(mis))?,
-        };
-        s.pdf *= choice;
-        Some(s)
-    }
-
-    /// Density (choice included) with which `sample_light(…, mis)` from `r` gives direction
-    /// `wi` towards light `light`; for an area light, `hit` is the point reached and its normal.
-    pub fn light_pdf(&self, light: usize, r: &RefPoint, wi: Vec3, hit: Option<(Vec3, Vec3)>, mis: bool) -> f32 {
-        let pdf = match (&self.lights[light], hit) {
-            (Light::Point(_) | Light::Spot(_) | Light::Directional(_), _) => 0.0,
-            (Light::Area(a), Some((p, n))) => self.shapes[a.shape].geometry.pdf(r.p, p, n),
-            (Light::Area(_), None) => 0.0,
-            (Light::Constant(c), _) => c.pdf(r, wi),
-            (Light::EnvMap(e), _) => e.pdf_by(wi, env_density(mis)),
-        };
-        if pdf == 0.0 {
-            return 0.0;
-        }
-        pdf * self.light_choice_pdf(light, r)
-    }
-}
-
-/// The density an environment map's light samples follow, with or without MIS beside them.
-#[inline]
-fn env_density(mis: bool) -> EnvDensity {
-    if mis {
-        EnvDensity::Compensated
-    } else {
-        EnvDensity::Radiance
     }
 }
 

@@ -1,0 +1,145 @@
+//! A vertex's light samples and the densities they have. One light is chosen
+//! ([`light_choice`](super::light_choice)) and sampled; an environment that shares the scene
+//! with other lights is not among the choices but sampled at every vertex, with numbers of its
+//! own. Chosen against a point light or the sun on a surface, the environment's fixed share
+//! left the other light's light to a coin toss: the spheres scene under a point light and a
+//! constant sky, 64 spp, RMSE 0.0447 with the choice and 0.0196 with the environment sampled
+//! beside it, in about the same time.
+
+use super::Scene;
+use crate::light::envmap::{EnvDensity, EnvMap};
+use crate::light::{Light, LightSample, RefPoint};
+use crate::sampler::Sampler;
+use glam::{Vec2, Vec3};
+use radiometry::Rgb;
+
+/// The uniform numbers of one vertex's light samples.
+#[derive(Clone, Copy, Debug)]
+pub struct LightNumbers {
+    /// The light choice.
+    pub uc: f32,
+    /// The chosen light's sample: a 1D number (a mesh's triangle, a map's cell) and a 2D one.
+    pub uc2: f32,
+    /// See `uc2`.
+    pub u: Vec2,
+    /// The environment's sample where it is sampled beside the choice (else 0).
+    pub ue: f32,
+    /// See `ue`.
+    pub ue2: Vec2,
+}
+
+impl LightNumbers {
+    /// Zeros, for lanes without a path.
+    pub const ZERO: LightNumbers = LightNumbers { uc: 0.0, uc2: 0.0, u: Vec2::ZERO, ue: 0.0, ue2: Vec2::ZERO };
+
+    /// Draws them for `scene` (the environment's only where it has a sample of its own), and
+    /// starts loading the first table entry an environment map's sample will read.
+    #[inline]
+    pub fn draw(sampler: &mut Sampler, scene: &Scene) -> Self {
+        let (uc, uc2, u) = (sampler.next_1d(), sampler.next_1d(), sampler.next_2d());
+        let (ue, ue2) = match scene.split_environment() {
+            Some(_) => (sampler.next_1d(), sampler.next_2d()),
+            None => (0.0, Vec2::ZERO),
+        };
+        let n = LightNumbers { uc, uc2, u, ue, ue2 };
+        if let Some((map, u1, _)) = scene.env_map_numbers(&n) {
+            map.prefetch_sample(u1, EnvDensity::Compensated);
+        }
+        n
+    }
+}
+
+impl Scene {
+    /// The light samples from `r`: the chosen light's (its pdf includes the choice) and, where
+    /// the environment is sampled beside the choice, the environment's. `mis`: a BSDF sample
+    /// weighted by multiple importance sampling goes with them, so that an environment map may
+    /// be sampled by its compensated density ([`EnvDensity`]).
+    #[inline]
+    pub fn sample_lights(&self, r: &RefPoint, n: &LightNumbers, mis: bool) -> [Option<LightSample>; 2] {
+        let chosen = self.choose_light(r, n.uc).and_then(|(light, choice)| {
+            let mut s = self.sample_light(light, r, n.uc2, n.u, mis)?;
+            s.pdf *= choice;
+            Some(s)
+        });
+        let env = self.split_environment().and_then(|e| self.sample_light(e, r, n.ue, n.ue2, mis));
+        [chosen, env]
+    }
+
+    /// A sample of light `light` from `r`, with the density of its direction alone.
+    #[inline]
+    fn sample_light(&self, light: usize, r: &RefPoint, uc2: f32, u: Vec2, mis: bool) -> Option<LightSample> {
+        match &self.lights[light] {
+            Light::Point(l) => l.sample(r),
+            Light::Spot(l) => l.sample(r),
+            Light::Directional(l) => l.sample(r),
+            Light::Area(a) => a.sample(&self.shapes[a.shape].geometry, r, uc2, u),
+            Light::Constant(c) => c.sample(r, u),
+            Light::EnvMap(e) => e.sample_by(r.p, uc2, u, env_density(mis)),
+        }
+    }
+
+    /// Density (choice included) with which `sample_lights(…, mis)` from `r` gives direction
+    /// `wi` towards light `light`; for an area light, `hit` is the point reached and its normal.
+    pub fn light_pdf(&self, light: usize, r: &RefPoint, wi: Vec3, hit: Option<(Vec3, Vec3)>, mis: bool) -> f32 {
+        let pdf = match (&self.lights[light], hit) {
+            (Light::Point(_) | Light::Spot(_) | Light::Directional(_), _) => 0.0,
+            (Light::Area(a), Some((p, n))) => self.shapes[a.shape].geometry.pdf(r.p, p, n),
+            (Light::Area(_), None) => 0.0,
+            (Light::Constant(c), _) => c.pdf(r, wi),
+            (Light::EnvMap(e), _) => e.pdf_by(wi, env_density(mis)),
+        };
+        if pdf == 0.0 {
+            return 0.0;
+        }
+        pdf * self.light_choice_pdf(light, r)
+    }
+
+    /// The environment's radiance along escaping direction `d` and, when `from` is given, the
+    /// density (choice included) with which `sample_lights(…, mis)` from there gives `d` (else
+    /// 0); one map lookup serves both. None without an environment.
+    #[inline]
+    pub fn environment_eval(&self, d: Vec3, from: Option<&RefPoint>, mis: bool) -> Option<(Rgb, f32)> {
+        let env = self.environment?;
+        let (le, pdf) = match &self.lights[env] {
+            Light::Constant(c) => (c.radiance, from.map_or(0.0, |r| c.pdf(r, d))),
+            Light::EnvMap(e) if from.is_some() => e.eval_pdf_by(d, env_density(mis)),
+            Light::EnvMap(e) => (e.eval(d), 0.0),
+            _ => return None,
+        };
+        Some((le, from.map_or(0.0, |r| pdf * self.light_choice_pdf(env, r))))
+    }
+
+    /// The environment map the light samples of numbers `n` sample, if any, with the numbers
+    /// it takes: its own beside a choice, else the choice's (it is then the only light).
+    #[inline]
+    fn env_map_numbers(&self, n: &LightNumbers) -> Option<(&EnvMap, f32, Vec2)> {
+        let (e, u1, u2) = match self.split_environment() {
+            Some(e) => (e, n.ue, n.ue2),
+            None => (self.environment?, n.uc2, n.u),
+        };
+        match &self.lights[e] {
+            Light::EnvMap(map) => Some((map, u1, u2)),
+            _ => None,
+        }
+    }
+
+    /// After [`LightNumbers::draw`]'s prefetch has had time, starts loading what the
+    /// environment map's sample reads next (the map cell's corners and texels). A hint, called
+    /// before other work; it changes no result.
+    #[inline]
+    pub fn prefetch_light_cell(&self, n: &LightNumbers) {
+        if let Some((map, u1, u2)) = self.env_map_numbers(n) {
+            map.prefetch_sample_cell(u1, u2, EnvDensity::Compensated);
+        }
+    }
+}
+
+/// The density an environment map's light samples follow, with or without MIS beside them.
+#[inline]
+fn env_density(mis: bool) -> EnvDensity {
+    if mis {
+        EnvDensity::Compensated
+    } else {
+        EnvDensity::Radiance
+    }
+}
