@@ -28,6 +28,7 @@ pub mod envmap_convert;
 pub mod error;
 pub mod film;
 pub mod filter;
+pub mod floor;
 pub mod image;
 pub mod integrator;
 pub mod io;

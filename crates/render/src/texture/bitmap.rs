@@ -11,6 +11,7 @@
 //! lookup (behaviour only); IEC 61966-2-1 for the sRGB curve.
 
 use crate::error::{Error, Result};
+use crate::floor::floor;
 use crate::texture::UvTransform;
 use glam::Vec2;
 use radiometry::Rgb;
@@ -247,7 +248,7 @@ impl Bitmap {
     fn footprint(&self, uv: Vec2) -> (i64, i64, f32, f32) {
         let fx = uv.x * self.width as f32 - 0.5;
         let fy = uv.y * self.height as f32 - 0.5;
-        let (x0, y0) = (fx.floor(), fy.floor());
+        let (x0, y0) = (floor(fx), floor(fy));
         (x0 as i64, y0 as i64, fx - x0, fy - y0)
     }
 
@@ -272,7 +273,7 @@ impl Bitmap {
         let uv = self.options.to_uv.apply(uv);
         match self.options.filter {
             FilterType::Nearest => {
-                let (x, y) = ((uv.x * self.width as f32).floor(), (uv.y * self.height as f32).floor());
+                let (x, y) = (floor(uv.x * self.width as f32), floor(uv.y * self.height as f32));
                 self.texel(x as i64, y as i64)
             }
             FilterType::Bilinear => {
@@ -295,8 +296,8 @@ impl Bitmap {
     #[inline]
     fn corners(&self, x0: i64, y0: i64) -> [usize; 4] {
         let mode = self.options.wrap;
-        let (xa, xb) = (wrap(x0, self.width, mode), wrap(x0 + 1, self.width, mode));
-        let (ya, yb) = (wrap(y0, self.height, mode) * self.width, wrap(y0 + 1, self.height, mode) * self.width);
+        let ((xa, xb), (ya, yb)) = (wrap_pair(x0, self.width, mode), wrap_pair(y0, self.height, mode));
+        let (ya, yb) = (ya * self.width, yb * self.width);
         [ya + xa, ya + xb, yb + xa, yb + xb].map(|i| i * self.channels)
     }
 
@@ -361,7 +362,7 @@ fn luminance(c: Rgb) -> f32 {
 }
 
 /// A texel index wrapped into [0, n).
-#[inline]
+#[inline(always)]
 fn wrap(i: i64, n: usize, mode: WrapMode) -> usize {
     let n = n as i64;
     // Inside the image every mode is the identity; only the edges need a division.
@@ -380,6 +381,18 @@ fn wrap(i: i64, n: usize, mode: WrapMode) -> usize {
             }
         }
     }) as usize
+}
+
+/// `wrap(i, …)` and `wrap(i + 1, …)`, with one division where `wrap` would make two: a
+/// repeated texture (scaled by `to_uv`, most lookups fall outside the image) wraps i + 1 from
+/// i's index.
+#[inline(always)]
+fn wrap_pair(i: i64, n: usize, mode: WrapMode) -> (usize, usize) {
+    let a = wrap(i, n, mode);
+    match mode {
+        WrapMode::Repeat => (a, if a + 1 == n { 0 } else { a + 1 }),
+        WrapMode::Clamp | WrapMode::Mirror => (a, wrap(i + 1, n, mode)),
+    }
 }
 
 /// Checks the size against the data and doubles a side shorter than 2 texels.
@@ -425,6 +438,17 @@ mod tests {
     /// Within Mitsuba's rational fit of the sRGB curve (2.5e-6 relative) and f32 rounding.
     fn close(a: Rgb, b: [f32; 3]) -> bool {
         (0..3).all(|c| (a.0[c] - b[c]).abs() <= 4e-6 * b[c].abs() + 1e-9)
+    }
+
+    #[test]
+    fn a_wrapped_pair_is_two_wraps() {
+        for mode in [WrapMode::Repeat, WrapMode::Clamp, WrapMode::Mirror] {
+            for n in [1, 2, 3, 7] {
+                for i in -5 * n as i64..5 * n as i64 {
+                    assert_eq!(wrap_pair(i, n, mode), (wrap(i, n, mode), wrap(i + 1, n, mode)), "{mode:?} {i} in {n}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -6,6 +6,7 @@
 //! `color0` where a ≠ b: Mitsuba 3.9.1's `eval_1` swaps the colours, and a scene means what it
 //! renders in Mitsuba.
 
+use crate::floor::floor;
 use crate::texture::{Texture, UvTransform};
 use glam::Vec2;
 use radiometry::Rgb;
@@ -26,7 +27,7 @@ impl Checkerboard {
     #[inline]
     fn even(&self, uv: Vec2) -> bool {
         let p = self.to_uv.apply(uv);
-        let (a, b) = (p.x - p.x.floor() > 0.5, p.y - p.y.floor() > 0.5);
+        let (a, b) = (p.x - floor(p.x) > 0.5, p.y - floor(p.y) > 0.5);
         a == b
     }
 
