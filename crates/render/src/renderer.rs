@@ -5,7 +5,8 @@ use crate::film::{RowSplats, SplatFilm};
 use crate::filter::Filter;
 use crate::image::Image;
 use crate::integrator::Integrator;
-use crate::sampler::PixelKey;
+use crate::ray::Ray;
+use crate::sampler::{PixelKey, Sampler};
 use crate::scene::Scene;
 use crate::simd::LANES;
 use glam::Vec2;
@@ -96,6 +97,10 @@ pub fn camera_ray(scene: &Scene, pos: Vec2, sampler: &mut crate::sampler::Sample
     scene.camera.ray(pos, aperture)
 }
 
+/// Camera samples handed to the integrator at once: sixteen packets, so that the sixteen-lane
+/// tracer refills a lane whose path ended with the next sample far more often than it drains.
+const BATCH: usize = 16 * LANES;
+
 /// What every row task of a render shares.
 struct Run<'a, P> {
     scene: &'a Scene,
@@ -116,26 +121,33 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
         (self.progress)(Progress { done: d, total: self.total });
     }
 
-    /// Takes samples `s0..s1` of every pixel of row `y` (of `w`), sixteen camera samples at a
-    /// time, and hands each to `out(x, film position, radiance)`, pixel by pixel and sample by
-    /// sample in order.
+    /// Takes samples `s0..s1` of every pixel of row `y` (of `w`), a batch of [`BATCH`] camera
+    /// samples at a time, and hands each to `out(x, film position, radiance)`, pixel by pixel
+    /// and sample by sample in order.
     fn row_samples(&self, y: usize, w: usize, s0: u32, s1: u32, mut out: impl FnMut(usize, Vec2, Rgb)) {
         let (scene, opts) = (self.scene, self.opts);
-        let ray = crate::ray::Ray::new(glam::Vec3::ZERO, glam::Vec3::Z);
-        let (mut rays, mut samplers) = ([ray; LANES], std::array::from_fn(|_| crate::sampler::Sampler::new(0, 0, 0)));
-        let mut at = [(0usize, Vec2::ZERO); LANES];
-        let mut n = 0;
-        // Without a lens, the camera computes the rays of a batch together.
+        let (mut rays, mut samplers, mut at) = (Vec::with_capacity(BATCH), Vec::with_capacity(BATCH), Vec::new());
+        let mut l = vec![Rgb::ZERO; BATCH];
+        // Without a lens, the camera computes the rays of sixteen samples together.
         let lens = scene.camera.needs_aperture_sample();
-        let mut run = |n: usize, rays: &mut [crate::ray::Ray; LANES], samplers: &mut _, at: &[(usize, Vec2); LANES]| {
-            let active = if n == LANES { u32::MAX >> (32 - LANES) } else { (1 << n) - 1 };
+        let mut film = [Vec2::ZERO; LANES];
+        let mut run = |rays: &mut Vec<Ray>, samplers: &mut Vec<Sampler>, at: &mut Vec<(usize, Vec2)>| {
             if !lens {
-                *rays = scene.camera.rays(&at.map(|(_, pos)| pos), scene.simd());
+                for group in at.chunks(LANES) {
+                    for (f, &(_, pos)) in film.iter_mut().zip(group) {
+                        *f = pos;
+                    }
+                    rays.extend_from_slice(&scene.camera.rays(&film, scene.simd())[..group.len()]);
+                }
             }
-            let l = opts.integrator.li_packet(scene, rays, samplers, active);
-            for (&(x, pos), l) in at.iter().zip(l).take(n) {
+            let l = &mut l[..at.len()];
+            opts.integrator.li_batch(scene, rays, samplers, l);
+            for (&(x, pos), &l) in at.iter().zip(l.iter()) {
                 out(x, pos, l);
             }
+            rays.clear();
+            samplers.clear();
+            at.clear();
         };
         for x in 0..w {
             let key = PixelKey::new(opts.seed, (y * w + x) as u64);
@@ -143,19 +155,17 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
                 let mut sampler = key.sampler(s as u64);
                 let pos = Vec2::new(x as f32, y as f32) + sampler.next_2d();
                 if lens {
-                    rays[n] = camera_ray(scene, pos, &mut sampler);
+                    rays.push(camera_ray(scene, pos, &mut sampler));
                 }
-                samplers[n] = sampler;
-                at[n] = (x, pos);
-                n += 1;
-                if n == LANES {
-                    run(n, &mut rays, &mut samplers, &at);
-                    n = 0;
+                samplers.push(sampler);
+                at.push((x, pos));
+                if at.len() == BATCH {
+                    run(&mut rays, &mut samplers, &mut at);
                 }
             }
         }
-        if n > 0 {
-            run(n, &mut rays, &mut samplers, &at);
+        if !at.is_empty() {
+            run(&mut rays, &mut samplers, &mut at);
         }
     }
 

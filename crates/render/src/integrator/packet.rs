@@ -3,8 +3,9 @@
 //! traced on its own, and its shadow tests wait in a queue that answers them sixteen at a time
 //! as a packet. A path never depends on its shadow tests, only its sum does, and each lane adds
 //! its visible contributions in the order it made them: every lane gets exactly the estimate
-//! the one-ray-at-a-time integrator gives it. Scenes of Lambertian meshes under one area light
-//! go on to the sixteen-lane path tracer of [`super::wide`] instead.
+//! the one-ray-at-a-time integrator gives it. [`Integrator::li_batch`] hands the camera samples
+//! of a batch to this sixteen at a time, or, for scenes of Lambertian meshes under one area
+//! light, to the sixteen-lane path tracer of [`super::wide`].
 
 use super::{direct, finite, path, phong, Integrator};
 use crate::ray::Ray;
@@ -65,6 +66,29 @@ impl<'a> ShadowQueue<'a> {
 }
 
 impl Integrator {
+    /// The estimates along camera rays `rays`, each drawing from its sampler in `samplers`,
+    /// written to `out`: for each what [`li`](Self::li) gives. Sixteen at a time through
+    /// [`li_packet`](Self::li_packet), or all in the sixteen-lane tracer where the scene is one
+    /// of its own.
+    pub fn li_batch(&self, scene: &Scene, rays: &[Ray], samplers: &[Sampler], out: &mut [Rgb]) {
+        if let (Integrator::Path { max_depth, rr_depth, hide_emitters: false }, Some(diffuse)) =
+            (*self, scene.diffuse_meshes())
+        {
+            diffuse.li(scene, rays, samplers, out, max_depth, rr_depth);
+            for l in out.iter_mut() {
+                *l = finite(*l);
+            }
+            return;
+        }
+        for ((rays, samplers), out) in rays.chunks(LANES).zip(samplers.chunks(LANES)).zip(out.chunks_mut(LANES)) {
+            let n = rays.len();
+            let packet: [Ray; LANES] = std::array::from_fn(|i| rays[i.min(n - 1)]);
+            let mut lanes: [Sampler; LANES] = std::array::from_fn(|i| samplers[i.min(n - 1)].clone());
+            let l = self.li_packet(scene, &packet, &mut lanes, u32::MAX >> (32 - n));
+            out.copy_from_slice(&l[..n]);
+        }
+    }
+
     /// The estimates along the camera rays of lanes `active`, each drawing from its own sampler:
     /// for every lane what [`li`](Self::li) gives, ray queries made on the scene's instruction
     /// set (sixteen at a time unless it is [`Simd::Scalar`](crate::simd::Simd::Scalar)).
@@ -87,13 +111,6 @@ impl Integrator {
             for_bits(active, |i| first[i] = path::VertexNumbers::draw(&mut samplers[i], scene));
         }
         let hits = scene.intersect_t_packet(rays, active, scene.simd());
-        if let (Integrator::Path { max_depth, rr_depth, hide_emitters: false }, Some(diffuse)) =
-            (*self, scene.diffuse_meshes())
-        {
-            let l = diffuse.li(scene, rays, &hits, &first, samplers, active, max_depth, rr_depth);
-            for_bits(active, |i| out[i] = finite(l[i]));
-            return out;
-        }
         let mut queue = ShadowQueue::new(scene);
         let mut unlit = [Rgb::ZERO; LANES];
         for_bits(active, |i| {
