@@ -85,6 +85,18 @@ impl<N: Brdf> Brdf for Perturbed<N> {
         self.nested.pdf(pi, f.to_local(wo))
     }
 
+    /// One frame for both: a light sample's eval and pdf made it twice.
+    fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
+        let Some(f) = self.frame(wo) else { return (Rgb::ZERO, 0.0) };
+        let (pi, po) = (f.to_local(wi), f.to_local(wo));
+        if wi.z * pi.z <= 0.0 {
+            return (Rgb::ZERO, 0.0);
+        }
+        let (v, pdf) = self.nested.eval_pdf(pi, po);
+        let v = v * (pi.z.abs() / wi.z.abs() * self.g(f.n, wi));
+        (if v.is_finite() { v } else { Rgb::ZERO }, pdf)
+    }
+
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample> {
         let f = self.frame(wo)?;
         let s = self.nested.sample(f.to_local(wo), uc, u)?;
