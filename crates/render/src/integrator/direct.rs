@@ -10,9 +10,8 @@
 //! so `emitter_samples = 4` lights a surface four times as brightly as 1 does: that is what
 //! Mitsuba 3.9.1 renders, and a scene means what it renders there.
 
-use crate::integrator::path::first_hit;
+use crate::integrator::path::{self, first_hit};
 use crate::integrator::{finite, power_heuristic};
-use crate::light::RefPoint;
 use crate::ray::{spawn_ray, Ray};
 use crate::sampler::Sampler;
 use crate::scene::{LightNumbers, Scene, ShadowTest, SurfaceInteraction};
@@ -77,7 +76,7 @@ pub fn estimate(
         }
         let transmits = brdf.transmits();
         let usable = |wi_z: f32| transmits || wi_z * wo.z > 0.0;
-        let r = RefPoint { p: si.p, n: if transmits { None } else { Some(si.frame.n * wo.z.signum()) } };
+        let r = path::reference(&si, wo, transmits);
         for _ in 0..n.emitter {
             let numbers = LightNumbers::draw(sampler, scene);
             for ls in scene.sample_lights(&r, &numbers, n.bsdf > 0).iter().flatten() {

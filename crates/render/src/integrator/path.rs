@@ -61,7 +61,7 @@ impl VertexNumbers {
 /// The reference point of a light sample at `si` seen from `wo` (local): a model that
 /// transmits takes light from every side, any other from wo's.
 #[inline(always)]
-fn reference(si: &SurfaceInteraction, wo: glam::Vec3, transmits: bool) -> RefPoint {
+pub(super) fn reference(si: &SurfaceInteraction, wo: glam::Vec3, transmits: bool) -> RefPoint {
     RefPoint { p: si.p, n: if transmits { None } else { Some(si.frame.n * wo.z.signum()) } }
 }
 

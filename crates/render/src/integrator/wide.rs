@@ -76,17 +76,25 @@ struct Numbers {
     bu: [Vec2; N],
 }
 
-/// The numbers of one vertex per lane (the light choice's and the BRDF lobe's go unused: one
-/// light, one lobe).
-#[inline(always)]
-fn numbers_of(v: &[VertexNumbers; N]) -> Numbers {
-    Numbers { uc2: v.map(|v| v.light.uc2), u: v.map(|v| v.light.u), bu: v.map(|v| v.bu) }
+impl Numbers {
+    const ZERO: Numbers = Numbers { uc2: [0.0; N], u: [Vec2::ZERO; N], bu: [Vec2::ZERO; N] };
+
+    /// Lane `i`'s numbers from `v` (the light choice's and the BRDF lobe's go unused: one
+    /// light, one lobe).
+    #[inline(always)]
+    fn set(&mut self, i: usize, v: &VertexNumbers) {
+        (self.uc2[i], self.u[i], self.bu[i]) = (v.light.uc2, v.light.u, v.bu);
+    }
 }
 
 /// Draws a vertex's numbers from each lane's sampler.
 #[inline(always)]
 fn draw(samplers: &mut [Sampler; N], scene: &Scene) -> Numbers {
-    numbers_of(&std::array::from_fn(|i| VertexNumbers::draw(&mut samplers[i], scene)))
+    let mut n = Numbers::ZERO;
+    for (i, s) in samplers.iter_mut().enumerate() {
+        n.set(i, &VertexNumbers::draw(s, scene));
+    }
+    n
 }
 
 /// A triangle's corners, vertex normals and uvs (zero where the mesh has none) and flip
@@ -266,7 +274,7 @@ impl DiffuseMeshes {
         // yet written.
         let (mut alive, mut held, mut sample, mut next) = (0u32, 0u32, [0usize; N], 0usize);
         let mut lane_samplers: [Sampler; N] = std::array::from_fn(|_| Sampler::new(0, 0, 0));
-        let mut numbers = Numbers { uc2: [0.0; N], u: [Vec2::ZERO; N], bu: [Vec2::ZERO; N] };
+        let mut numbers = Numbers::ZERO;
         let (mut corners, mut light_corners) = (Corners::new(), Corners::new());
         let (mut shape, mut albedo) = ([0usize; N], V3::ZERO);
         // Per lane: the front and back albedos, whether the back scatters, and whether the
@@ -290,8 +298,7 @@ impl DiffuseMeshes {
                 }
                 (sample[i], next) = (next, next + 1);
                 lane_samplers[i] = samplers[sample[i]].clone();
-                let first = VertexNumbers::draw(&mut lane_samplers[i], scene);
-                (numbers.uc2[i], numbers.u[i], numbers.bu[i]) = (first.light.uc2, first.light.u, first.bu);
+                numbers.set(i, &VertexNumbers::draw(&mut lane_samplers[i], scene));
                 camera[i] = rays[sample[i]];
                 o.set(i, camera[i].o);
                 d.set(i, camera[i].d);

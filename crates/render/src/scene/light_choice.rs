@@ -168,7 +168,7 @@ impl Scene {
                 Some(e) if k >= e => k + 1,
                 _ => k,
             };
-            return Some((light, 1.0 / m as f32));
+            return Some((light, self.uniform_choice_pdf()));
         }
         pick(&self.choice_pmf(r)[..self.lights.len()], uc)
     }
@@ -181,9 +181,15 @@ impl Scene {
             return 1.0;
         }
         if !self.choice_adapts() {
-            return 1.0 / self.choice_count().max(1) as f32;
+            return self.uniform_choice_pdf();
         }
         self.choice_pmf(r)[i]
+    }
+
+    /// The probability of each light of a choice that does not adapt.
+    #[inline]
+    fn uniform_choice_pdf(&self) -> f32 {
+        1.0 / self.choice_count().max(1) as f32
     }
 }
 
