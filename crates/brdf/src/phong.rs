@@ -27,6 +27,7 @@ use crate::combine;
 use crate::model::{reflect_z, same_upper_hemisphere, Brdf, BrdfSample, Claims, PhongTerms};
 use crate::params::{ParamError, ParamSource, ParamSpec};
 use crate::registry::ModelSpec;
+use radiometry::trig::sin_cos_pi;
 use radiometry::{Frame, Rgb, Vec2, Vec3};
 use std::f32::consts::TAU;
 
@@ -41,7 +42,7 @@ pub fn cos_power_hemisphere(n: f32, u: Vec2) -> Vec3 {
     let one_minus_c = -(u.x.ln() / (n + 1.0)).exp_m1();
     let c = 1.0 - one_minus_c;
     let s = (one_minus_c * (2.0 - one_minus_c)).max(0.0).sqrt();
-    let (sp, cp) = (TAU * u.y).sin_cos();
+    let (sp, cp) = sin_cos_pi(2.0 * u.y);
     Vec3::new(s * cp, s * sp, c)
 }
 

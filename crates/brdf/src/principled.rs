@@ -54,9 +54,10 @@ use crate::principled_common::{
     SmithGgx,
 };
 use crate::registry::{by_value, ModelSpec};
+use radiometry::trig::sin_cos_pi;
 use radiometry::warp::cosine_hemisphere;
 use radiometry::{Rgb, Vec2, Vec3};
-use std::f32::consts::{FRAC_1_PI, PI, TAU};
+use std::f32::consts::{FRAC_1_PI, PI};
 
 /// Which of the optional lobes and terms Mitsuba switches on (its `has_*` flags).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -141,7 +142,7 @@ fn gtr1_sample(u: Vec2, a: f32) -> Vec3 {
     let a2 = a * a;
     let cos2 = (1.0 - a2.powf(1.0 - u.y)) / (1.0 - a2);
     let sin = (1.0 - cos2).max(0.0).sqrt();
-    let (sp, cp) = (TAU * u.x).sin_cos();
+    let (sp, cp) = sin_cos_pi(2.0 * u.x);
     Vec3::new(cp * sin, sp * sin, cos2.max(0.0).sqrt())
 }
 

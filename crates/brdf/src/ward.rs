@@ -24,8 +24,9 @@ use crate::model::{reflect_about_half_vector, same_upper_hemisphere, Brdf, BrdfS
 use crate::params::{ParamError, ParamSource, ParamSpec};
 use crate::registry::{by_value, ModelSpec};
 use crate::roughness;
+use radiometry::trig::sin_cos_pi;
 use radiometry::{Rgb, Vec2, Vec3};
-use std::f32::consts::{PI, TAU};
+use std::f32::consts::PI;
 
 // The smallest roughness, `roughness::ALPHA_MIN`, keeps the peak 1/(4π α_x α_y) far inside f32.
 pub use crate::roughness::ALPHA_MIN;
@@ -109,7 +110,7 @@ impl Brdf for Ward {
         }
         // The slope m = (α_x r cos ψ, α_y r sin ψ), r² = −ln u₁, is the elliptical Gaussian;
         // the Gaussian is even, so h = (m, 1)/|(m, 1)| has the same law as (−m, 1)/|…|.
-        let (sp, cp) = (TAU * u.y).sin_cos();
+        let (sp, cp) = sin_cos_pi(2.0 * u.y);
         let r = (-u.x.ln()).sqrt();
         let h = Vec3::new(self.alpha_x * r * cp, self.alpha_y * r * sp, 1.0).normalize_or_zero();
         reflect_about_half_vector(self, wo, h)

@@ -11,6 +11,7 @@ pub mod integrate;
 pub mod prefetch;
 pub mod spectrum;
 pub mod spherical;
+pub mod trig;
 pub mod warp;
 pub mod warp2d;
 

@@ -2,15 +2,16 @@
 //! density each produces (solid angle for directions, area for the disk).
 //! Formulas as in pbrt-v4, `util/sampling.h`, and Shirley & Chiu 1997 for the disk.
 
+use crate::trig::{sin_cos_pi, sin_cos_pi_quarter};
 use glam::{Vec2, Vec3};
-use std::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI, TAU};
+use std::f32::consts::{FRAC_1_PI, PI};
 
 /// Uniform direction on the unit sphere.
 #[inline]
 pub fn uniform_sphere(u: Vec2) -> Vec3 {
     let z = 1.0 - 2.0 * u.x;
     let r = (1.0 - z * z).max(0.0).sqrt();
-    let (s, c) = (TAU * u.y).sin_cos();
+    let (s, c) = sin_cos_pi(2.0 * u.y);
     Vec3::new(r * c, r * s, z)
 }
 
@@ -25,7 +26,7 @@ pub fn uniform_sphere_pdf() -> f32 {
 pub fn uniform_hemisphere(u: Vec2) -> Vec3 {
     let z = u.x;
     let r = (1.0 - z * z).max(0.0).sqrt();
-    let (s, c) = (TAU * u.y).sin_cos();
+    let (s, c) = sin_cos_pi(2.0 * u.y);
     Vec3::new(r * c, r * s, z)
 }
 
@@ -39,13 +40,12 @@ pub fn uniform_hemisphere_pdf() -> f32 {
 #[inline]
 pub fn concentric_disk(u: Vec2) -> Vec2 {
     let o = 2.0 * u - Vec2::ONE;
-    if o.x == 0.0 && o.y == 0.0 {
-        return Vec2::ZERO;
-    }
-    let (r, t) =
-        if o.x.abs() > o.y.abs() { (o.x, FRAC_PI_4 * (o.y / o.x)) } else { (o.y, FRAC_PI_2 - FRAC_PI_4 * (o.x / o.y)) };
-    let (s, c) = t.sin_cos();
-    r * Vec2::new(c, s)
+    // Selections, not branches, so that a loop over lanes vectorizes. Near the y axis the
+    // angle is π/2 − a, whose sine and cosine are a's cosine and sine; at the centre r = 0.
+    let steep = o.x.abs() <= o.y.abs();
+    let (r, across) = if steep { (o.y, o.x) } else { (o.x, o.y) };
+    let (s, c) = sin_cos_pi_quarter(0.25 * (across / if r != 0.0 { r } else { 1.0 }));
+    r * if steep { Vec2::new(s, c) } else { Vec2::new(c, s) }
 }
 
 /// Area density of `concentric_disk`: 1/π.
@@ -73,7 +73,7 @@ pub fn cosine_hemisphere_pdf(cos_theta: f32) -> f32 {
 pub fn uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
     let z = 1.0 - u.x * (1.0 - cos_max);
     let r = (1.0 - z * z).max(0.0).sqrt();
-    let (s, c) = (TAU * u.y).sin_cos();
+    let (s, c) = sin_cos_pi(2.0 * u.y);
     Vec3::new(r * c, r * s, z)
 }
 

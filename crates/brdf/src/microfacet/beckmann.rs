@@ -18,8 +18,9 @@
 
 use super::erf::{erf, erfc, erfinv};
 use super::{stretched_tan2, Ndf, MIN_ALPHA};
+use radiometry::trig::sin_cos_pi;
 use radiometry::{Vec2, Vec3};
-use std::f32::consts::{PI, TAU};
+use std::f32::consts::PI;
 
 /// 1/√π.
 const FRAC_1_SQRT_PI: f32 = 0.564_189_6;
@@ -128,7 +129,7 @@ impl Ndf for Beckmann {
 
     fn sample_normal(&self, u: Vec2) -> Vec3 {
         let r = (-(1.0 - u.x).max(f32::MIN_POSITIVE).ln()).sqrt();
-        let (s, c) = (TAU * u.y).sin_cos();
+        let (s, c) = sin_cos_pi(2.0 * u.y);
         super::normal_from_slopes(r * c * self.alpha_x, r * s * self.alpha_y)
     }
 

@@ -13,8 +13,9 @@
 //! Models for Refraction through Rough Surfaces", EGSR 2007.
 
 use super::{stretched_tan2, Ndf, MIN_ALPHA};
+use radiometry::trig::sin_cos_pi;
 use radiometry::{Vec2, Vec3};
-use std::f32::consts::{PI, TAU};
+use std::f32::consts::PI;
 
 /// The anisotropic GGX distribution with roughnesses `alpha_x`, `alpha_y` along the tangents.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -61,7 +62,7 @@ impl Ndf for Ggx {
     fn sample_normal(&self, u: Vec2) -> Vec3 {
         let r2 = u.x / (1.0 - u.x).max(f32::MIN_POSITIVE);
         let r = r2.sqrt();
-        let (s, c) = (TAU * u.y).sin_cos();
+        let (s, c) = sin_cos_pi(2.0 * u.y);
         super::normal_from_slopes(r * c * self.alpha_x, r * s * self.alpha_y)
     }
 
@@ -75,7 +76,7 @@ impl Ndf for Ggx {
         let t2 = v.cross(t1);
         // A uniform point on the disk perpendicular to v ...
         let r = u.x.sqrt();
-        let (sp, cp) = (TAU * u.y).sin_cos();
+        let (sp, cp) = sin_cos_pi(2.0 * u.y);
         let p1 = r * cp;
         let mut p2 = r * sp;
         // ... whose far half is squashed by the hemisphere's projected outline, cos of v's angle.

@@ -434,7 +434,7 @@ impl DiffuseMeshes {
             }
             // BRDF sampling: the direction each path continues in.
             let mut wi = [Vec3::ZERO; N];
-            for i in Bits(alive) {
+            for i in 0..N {
                 wi[i] = cosine_hemisphere(numbers.bu[i]);
             }
             for i in 0..N {

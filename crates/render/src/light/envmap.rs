@@ -29,10 +29,11 @@ use crate::error::{Error, Result};
 use crate::image::Image;
 use crate::light::LightSample;
 use glam::{Vec2, Vec3};
+use radiometry::trig::sin_cos_pi;
 use radiometry::warp::{uniform_sphere, uniform_sphere_pdf};
 use radiometry::warp2d::{bilerp, Bilinear2D};
 use radiometry::Rgb;
-use std::f32::consts::{PI, TAU};
+use std::f32::consts::PI;
 
 /// An environment map light.
 #[derive(Clone, Debug)]
@@ -72,8 +73,8 @@ pub fn direction_to_uv(d: Vec3) -> Vec2 {
 /// The unit direction with lookup coordinates (u, v).
 #[inline]
 pub fn uv_to_direction(uv: Vec2) -> Vec3 {
-    let (sin_t, cos_t) = (uv.y * PI).sin_cos();
-    let (sin_p, cos_p) = (uv.x * TAU).sin_cos();
+    let (sin_t, cos_t) = sin_cos_pi(uv.y);
+    let (sin_p, cos_p) = sin_cos_pi(2.0 * uv.x);
     Vec3::new(sin_t * sin_p, cos_t, -sin_t * cos_p)
 }
 
@@ -243,8 +244,8 @@ impl EnvMap {
                     uu -= 1.0;
                 }
                 let v = (s.j as f32 + s.frac.y) / (self.height - 1) as f32;
-                let (sin_t, cos_t) = (v * PI).sin_cos();
-                let (sin_p, cos_p) = (uu * TAU).sin_cos();
+                let (sin_t, cos_t) = sin_cos_pi(v);
+                let (sin_p, cos_p) = sin_cos_pi(2.0 * uu);
                 let sin_t = sin_t.max(0.0);
                 let wi = Vec3::new(sin_t * sin_p, cos_t, -sin_t * cos_p);
                 let pdf = if sin_t > 1e-18 {
