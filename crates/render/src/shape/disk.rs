@@ -56,7 +56,7 @@ impl Disk {
     fn surface_local(&self, q: Vec2) -> SurfacePoint {
         let (a, b) = (self.frame.a, self.frame.b);
         let r = q.length();
-        let mut phi = q.y.atan2(q.x);
+        let mut phi = crate::atan::atan2(q.y, q.x);
         if phi < 0.0 {
             phi += TAU;
         }

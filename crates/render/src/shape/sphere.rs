@@ -4,7 +4,8 @@
 //! draws the cone of directions the sphere subtends (uniform in solid angle), from inside its area.
 //!
 //! Surface coordinates are Mitsuba 3's: with q the unit point in the sphere's own frame (its
-//! `to_world` rotation undone), u = φ/2π (φ = atan2(q_y, q_x) in [0, 2π)), v = θ/π (θ from +z),
+//! `to_world` rotation undone), u = φ/2π (φ = atan2(q_y, q_x) in [0, 2π)), v = θ/π (θ from +z,
+//! as atan2(√(q_x² + q_y²), q_z)),
 //! ∂p/∂u = 2π R(−q_y, q_x, 0) and ∂p/∂v = π R(q_z cos φ, q_z sin φ, −sin θ), R the linear part of
 //! the placement (rotation times radius).
 
@@ -53,12 +54,13 @@ impl Sphere {
         let n0 = self.normal_out(p);
         let p = self.center + n0 * self.radius;
         let q = self.rotation.transpose() * n0;
-        let mut phi = q.y.atan2(q.x);
+        let mut phi = crate::atan::atan2(q.y, q.x);
         if phi < 0.0 {
             phi += TAU;
         }
-        let theta = unit_angle_z(q);
         let rd = (q.x * q.x + q.y * q.y).sqrt();
+        // atan2 of sin θ and cos θ is accurate at both poles, as acos is not.
+        let theta = crate::atan::atan2(rd, q.z);
         let dv = if rd == 0.0 { Vec3::X } else { Vec3::new(q.z * q.x / rd, q.z * q.y / rd, -rd) };
         let lin = self.rotation * self.radius;
         let n = if self.flip { -n0 } else { n0 };
@@ -174,16 +176,6 @@ impl Sphere {
 fn cone_pdf(sin2: f32, cos_max: f32) -> f32 {
     let one_minus_cos = sin2 / (1.0 + cos_max);
     1.0 / (2.0 * PI * one_minus_cos).max(f32::MIN_POSITIVE)
-}
-
-/// θ of a unit vector from +z, accurate at both poles (Mitsuba's `unit_angle_z`).
-#[inline]
-fn unit_angle_z(v: Vec3) -> f32 {
-    if v.z >= 0.0 {
-        2.0 * (0.5 * (v - Vec3::Z).length()).min(1.0).asin()
-    } else {
-        PI - 2.0 * (0.5 * (v + Vec3::Z).length()).min(1.0).asin()
-    }
 }
 
 /// Converts an area density at `p` (normal `n`) to solid angle at `r`: pdf·dist²/|cos|.
