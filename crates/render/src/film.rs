@@ -155,11 +155,11 @@ impl RowSplats {
         let (w, r) = (self.width as i64, self.radius as f64);
         // Positions relative to pixel centres: pixel i is reached when |i − px| ≤ r.
         let (px, py) = (pos.x as f64 - 0.5, pos.y as f64 - 0.5);
-        let x0 = ((px - r).ceil() as i64).max(0);
-        let x1 = ((px + r).floor() as i64).min(w - 1);
+        let x0 = ceil(px - r).max(0);
+        let x1 = floor(px + r).min(w - 1);
         let (y, reach) = (self.y as i64, self.reach as i64);
-        let y0 = ((py - r).ceil() as i64).max(y - reach).max(0);
-        let y1 = ((py + r).floor() as i64).min(y + reach).min(self.height as i64 - 1);
+        let y0 = ceil(py - r).max(y - reach).max(0);
+        let y1 = floor(py + r).min(y + reach).min(self.height as i64 - 1);
         if x0 > x1 || y0 > y1 {
             return;
         }
@@ -182,6 +182,20 @@ impl RowSplats {
             }
         }
     }
+}
+
+/// ⌈x⌉ as an integer, for |x| < 2⁶³: on the baseline instruction set `f64::ceil` is a call.
+#[inline(always)]
+fn ceil(x: f64) -> i64 {
+    let t = x as i64;
+    t + ((t as f64) < x) as i64
+}
+
+/// ⌊x⌋ as an integer, for |x| < 2⁶³.
+#[inline(always)]
+fn floor(x: f64) -> i64 {
+    let t = x as i64;
+    t - ((t as f64) > x) as i64
 }
 
 #[cfg(test)]
