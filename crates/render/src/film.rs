@@ -202,6 +202,16 @@ fn floor(x: f64) -> i64 {
 mod tests {
     use super::*;
 
+    #[test]
+    fn integer_ceil_and_floor_match_the_library() {
+        for k in -40_000..40_000 {
+            // Integers, halves and values a rounding away from an integer.
+            for x in [k as f64 / 16.0, k as f64 / 16.0 + 1e-12, k as f64 / 16.0 - 1e-12] {
+                assert_eq!((ceil(x), floor(x)), (x.ceil() as i64, x.floor() as i64), "{x}");
+            }
+        }
+    }
+
     /// Splats n×n stratified samples per pixel of L(x, y) = x into a film and develops it.
     fn ramp_film(filter: &Filter, w: usize, h: usize, n: usize) -> Image {
         let mut film = SplatFilm::new(filter, w, h);
