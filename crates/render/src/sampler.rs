@@ -3,6 +3,7 @@
 //! PCG32: M. E. O'Neill, "PCG: A family of simple fast space-efficient statistically good
 //! algorithms for random number generation", 2014 (XSH-RR output, 64-bit LCG state).
 
+use crate::simd::LANES;
 use glam::Vec2;
 
 const PCG_MULT: u64 = 6364136223846793005;
@@ -84,9 +85,73 @@ impl Sampler {
     }
 }
 
+/// Sixteen streams side by side, lane i drawing exactly what the [`Sampler`] put there with
+/// [`set`](Self::set) draws, written as loops over the lanes that the compiler turns into vector
+/// code: the sixteen-lane tracer draws a vertex's numbers for all its paths at once.
+#[derive(Clone, Debug)]
+pub struct Samplers16 {
+    state: [u64; LANES],
+    inc: [u64; LANES],
+}
+
+impl Samplers16 {
+    /// Sixteen copies of one stream.
+    pub fn new(s: &Sampler) -> Self {
+        Samplers16 { state: [s.state; LANES], inc: [s.inc; LANES] }
+    }
+
+    /// Lane `i` continues the stream `s`.
+    #[inline(always)]
+    pub fn set(&mut self, i: usize, s: &Sampler) {
+        (self.state[i], self.inc[i]) = (s.state, s.inc);
+    }
+
+    /// The next number of every lane, as [`Sampler::next_1d`].
+    #[inline(always)]
+    pub fn next_1d(&mut self) -> [f32; LANES] {
+        let mut u = [0.0; LANES];
+        for (i, u) in u.iter_mut().enumerate() {
+            let mut s = Sampler { state: self.state[i], inc: self.inc[i] };
+            *u = s.next_1d();
+            self.state[i] = s.state;
+        }
+        u
+    }
+
+    /// The next number of lane `i` alone.
+    #[inline(always)]
+    pub fn next_1d_lane(&mut self, i: usize) -> f32 {
+        let mut s = Sampler { state: self.state[i], inc: self.inc[i] };
+        let u = s.next_1d();
+        self.state[i] = s.state;
+        u
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sixteen_lanes_draw_what_their_streams_draw() {
+        let mut one: Vec<Sampler> = (0..LANES as u64).map(|i| Sampler::new(3, i, 7 * i)).collect();
+        let mut lanes = Samplers16::new(&one[0]);
+        for (i, s) in one.iter().enumerate() {
+            lanes.set(i, s);
+        }
+        for step in 0..200 {
+            if step % 3 == 2 {
+                // One lane draws alone, as a path playing Russian roulette does.
+                let i = step % LANES;
+                assert_eq!(lanes.next_1d_lane(i).to_bits(), one[i].next_1d().to_bits(), "step {step}");
+            } else {
+                let u = lanes.next_1d();
+                for (i, s) in one.iter_mut().enumerate() {
+                    assert_eq!(u[i].to_bits(), s.next_1d().to_bits(), "step {step}, lane {i}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn same_indices_same_stream_and_different_indices_differ() {

@@ -14,7 +14,7 @@
 use super::path::VertexNumbers;
 use super::power_heuristic;
 use crate::ray::{offset_origin, spawn_ray_to, surface_epsilon, Ray};
-use crate::sampler::Sampler;
+use crate::sampler::{Sampler, Samplers16};
 use crate::scene::{DiffuseMeshes, PacketHits, Scene};
 use crate::shape::sphere::solid_angle_pdf;
 use crate::shape::{Geometry, TriangleMesh};
@@ -87,14 +87,21 @@ impl Numbers {
     }
 }
 
-/// Draws a vertex's numbers from each lane's sampler.
+/// Draws a vertex's numbers for every lane at once, in the order [`VertexNumbers::draw`] draws
+/// them in these scenes (one light and no environment): the light choice, the light's
+/// triangle, the point on it, the BRDF lobe, the BRDF sample.
 #[inline(always)]
-fn draw(samplers: &mut [Sampler; N], scene: &Scene) -> Numbers {
-    let mut n = Numbers::ZERO;
-    for (i, s) in samplers.iter_mut().enumerate() {
-        n.set(i, &VertexNumbers::draw(s, scene));
+fn draw(s: &mut Samplers16) -> Numbers {
+    let _choice = s.next_1d();
+    let uc2 = s.next_1d();
+    let (ux, uy) = (s.next_1d(), s.next_1d());
+    let _lobe = s.next_1d();
+    let (bx, by) = (s.next_1d(), s.next_1d());
+    Numbers {
+        uc2,
+        u: std::array::from_fn(|i| Vec2::new(ux[i], uy[i])),
+        bu: std::array::from_fn(|i| Vec2::new(bx[i], by[i])),
     }
-    n
 }
 
 /// A triangle's corners, vertex normals and uvs (zero where the mesh has none) and flip
@@ -273,7 +280,7 @@ impl DiffuseMeshes {
         // Lanes on a path, and lanes holding a sample (index `sample`) whose estimate is not
         // yet written.
         let (mut alive, mut held, mut sample, mut next) = (0u32, 0u32, [0usize; N], 0usize);
-        let mut lane_samplers: [Sampler; N] = std::array::from_fn(|_| Sampler::new(0, 0, 0));
+        let mut lane_samplers = Samplers16::new(&Sampler::new(0, 0, 0));
         let mut numbers = Numbers::ZERO;
         let (mut corners, mut light_corners) = (Corners::new(), Corners::new());
         let (mut shape, mut albedo) = ([0usize; N], V3::ZERO);
@@ -297,8 +304,9 @@ impl DiffuseMeshes {
                     continue;
                 }
                 (sample[i], next) = (next, next + 1);
-                lane_samplers[i] = samplers[sample[i]].clone();
-                numbers.set(i, &VertexNumbers::draw(&mut lane_samplers[i], scene));
+                let mut s = samplers[sample[i]].clone();
+                numbers.set(i, &VertexNumbers::draw(&mut s, scene));
+                lane_samplers.set(i, &s);
                 camera[i] = rays[sample[i]];
                 o.set(i, camera[i].o);
                 d.set(i, camera[i].d);
@@ -458,7 +466,7 @@ impl DiffuseMeshes {
                 let b = beta.rgb(i);
                 let q = b.max_channel().min(0.95);
                 if depth[i] >= rr_depth {
-                    if lane_samplers[i].next_1d() >= q {
+                    if lane_samplers.next_1d_lane(i) >= q {
                         alive &= !(1 << i);
                         continue;
                     }
@@ -468,7 +476,7 @@ impl DiffuseMeshes {
                     alive &= !(1 << i);
                 }
             }
-            numbers = draw(&mut lane_samplers, scene);
+            numbers = draw(&mut lane_samplers);
             for i in Bits(alive) {
                 hit[i] = scene.intersect_t(&Ray::new(o.get(i), d.get(i)));
             }
