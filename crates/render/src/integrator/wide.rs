@@ -66,6 +66,28 @@ impl V3 {
     }
 }
 
+/// A frame per lane, its axes in lane arrays (an array of frames took a scatter and gathers
+/// where the lane loops became vector code).
+struct Frames {
+    s: V3,
+    t: V3,
+    n: V3,
+}
+
+impl Frames {
+    #[inline(always)]
+    fn get(&self, i: usize) -> Frame {
+        Frame { s: self.s.get(i), t: self.t.get(i), n: self.n.get(i) }
+    }
+
+    #[inline(always)]
+    fn set(&mut self, i: usize, f: &Frame) {
+        self.s.set(i, f.s);
+        self.t.set(i, f.t);
+        self.n.set(i, f.n);
+    }
+}
+
 /// The uniform numbers of one vertex per lane, drawn as `path`'s vertices draw them.
 struct Numbers {
     /// The light's triangle.
@@ -288,7 +310,7 @@ impl DiffuseMeshes {
         // path arrived on the back (where the back model sees mirrored directions).
         let (mut front, mut back, mut two_sided, mut on_back) = (V3::ZERO, V3::ZERO, [false; N], [false; N]);
         let (mut p, mut ng, mut wo) = (V3::ZERO, V3::ZERO, V3::ZERO);
-        let mut frame = [Frame { s: Vec3::X, t: Vec3::Y, n: Vec3::Z }; N];
+        let mut frame = Frames { s: V3::ZERO, t: V3::ZERO, n: V3::ZERO };
         let mut camera = [Ray::new(Vec3::ZERO, Vec3::Z); N];
         loop {
             // Path regeneration: a lane whose path ended writes its estimate and takes the next
@@ -357,13 +379,13 @@ impl DiffuseMeshes {
                 p.set(i, pi);
                 ng.set(i, ngi);
                 wo.set(i, w);
-                frame[i] = f;
+                frame.set(i, &f);
                 on_back[i] = w.z < 0.0;
                 albedo.set_rgb(i, if on_back[i] { back.rgb(i) } else { front.rgb(i) });
             }
             // Emission found by the previous vertex's BRDF sample (or seen by the camera).
             for i in Bits(alive) {
-                if !(emits && shape[i] == self.light_shape && frame[i].n.dot(-d.get(i)) > 0.0) {
+                if !(emits && shape[i] == self.light_shape && frame.n.get(i).dot(-d.get(i)) > 0.0) {
                     continue;
                 }
                 let w = if has_prev[i] {
@@ -401,7 +423,7 @@ impl DiffuseMeshes {
                 let dist = delta.length();
                 let wi = delta / dist;
                 let sampled = pdf_ok & (lns.dot(-wi) > 0.0) & emits & (dist > 0.0);
-                let wil = frame[i].to_local(wi);
+                let wil = frame.get(i).to_local(wi);
                 let wol = wo.get(i);
                 let (wim, wom) = (mirror_if(on_back[i], wil), mirror_if(on_back[i], wol));
                 let upper = (wim.z > 0.0) & (wom.z > 0.0);
@@ -446,7 +468,7 @@ impl DiffuseMeshes {
                 wi[i] = cosine_hemisphere(numbers.bu[i]);
             }
             for i in 0..N {
-                let (pi, dir) = (p.get(i), frame[i].to_world(mirror_if(on_back[i], wi[i])));
+                let (pi, dir) = (p.get(i), frame.get(i).to_world(mirror_if(on_back[i], wi[i])));
                 o.set(i, offset_origin(pi, ng.get(i), dir));
                 d.set(i, dir);
                 prev_pdf[i] = cosine_hemisphere_pdf(wi[i].z);
