@@ -93,19 +93,22 @@ struct Numbers {
     /// The light's triangle.
     uc2: [f32; N],
     /// The point on it.
-    u: [Vec2; N],
+    ux: [f32; N],
+    uy: [f32; N],
     /// The BRDF sample.
-    bu: [Vec2; N],
+    bx: [f32; N],
+    by: [f32; N],
 }
 
 impl Numbers {
-    const ZERO: Numbers = Numbers { uc2: [0.0; N], u: [Vec2::ZERO; N], bu: [Vec2::ZERO; N] };
+    const ZERO: Numbers = Numbers { uc2: [0.0; N], ux: [0.0; N], uy: [0.0; N], bx: [0.0; N], by: [0.0; N] };
 
     /// Lane `i`'s numbers from `v` (the light choice's and the BRDF lobe's go unused: one
     /// light, one lobe).
     #[inline(always)]
     fn set(&mut self, i: usize, v: &VertexNumbers) {
-        (self.uc2[i], self.u[i], self.bu[i]) = (v.light.uc2, v.light.u, v.bu);
+        (self.uc2[i], self.ux[i], self.uy[i]) = (v.light.uc2, v.light.u.x, v.light.u.y);
+        (self.bx[i], self.by[i]) = (v.bu.x, v.bu.y);
     }
 }
 
@@ -119,11 +122,7 @@ fn draw(s: &mut Samplers16) -> Numbers {
     let (ux, uy) = (s.next_1d(), s.next_1d());
     let _lobe = s.next_1d();
     let (bx, by) = (s.next_1d(), s.next_1d());
-    Numbers {
-        uc2,
-        u: std::array::from_fn(|i| Vec2::new(ux[i], uy[i])),
-        bu: std::array::from_fn(|i| Vec2::new(bx[i], by[i])),
-    }
+    Numbers { uc2, ux, uy, bx, by }
 }
 
 /// A triangle's corners, vertex normals and uvs (zero where the mesh has none) and flip
@@ -414,7 +413,7 @@ impl DiffuseMeshes {
             let (mut so, mut sd, mut s_tmax, mut s_test, mut s_skip) =
                 (V3::ZERO, V3::ZERO, [0.0f32; N], [false; N], [false; N]);
             for i in 0..N {
-                let u = numbers.u[i];
+                let u = Vec2::new(numbers.ux[i], numbers.uy[i]);
                 let su = u.x.sqrt();
                 let (lp, lng, lns) = light_corners.surface(i, su * (1.0 - u.y), su * u.y);
                 let (pi, ngi) = (p.get(i), ng.get(i));
@@ -463,22 +462,21 @@ impl DiffuseMeshes {
                 lit.set_rgb(i, lit.rgb(i) + add.rgb(i));
             }
             // BRDF sampling: the direction each path continues in.
-            let mut wi = [Vec3::ZERO; N];
+            let mut wi_z = [0.0f32; N];
             for i in 0..N {
-                wi[i] = cosine_hemisphere(numbers.bu[i]);
-            }
-            for i in 0..N {
-                let (pi, dir) = (p.get(i), frame.get(i).to_world(mirror_if(on_back[i], wi[i])));
+                let wi = cosine_hemisphere(Vec2::new(numbers.bx[i], numbers.by[i]));
+                wi_z[i] = wi.z;
+                let (pi, dir) = (p.get(i), frame.get(i).to_world(mirror_if(on_back[i], wi)));
                 o.set(i, offset_origin(pi, ng.get(i), dir));
                 d.set(i, dir);
-                prev_pdf[i] = cosine_hemisphere_pdf(wi[i].z);
+                prev_pdf[i] = cosine_hemisphere_pdf(wi.z);
                 beta.set_rgb(i, beta.rgb(i) * albedo.rgb(i));
             }
             prev_p = p;
             has_prev = [true; N];
             for i in Bits(alive) {
                 // The sample must lie above the model's own side, and on wo's side.
-                let usable = wi[i].z > 0.0 && mirror_if(on_back[i], wi[i]).z * wo.z[i] > 0.0;
+                let usable = wi_z[i] > 0.0 && (if on_back[i] { -wi_z[i] } else { wi_z[i] }) * wo.z[i] > 0.0;
                 if !usable {
                     alive &= !(1 << i);
                     continue;
