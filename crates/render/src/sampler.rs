@@ -111,9 +111,7 @@ impl Samplers16 {
     pub fn next_1d(&mut self) -> [f32; LANES] {
         let mut u = [0.0; LANES];
         for (i, u) in u.iter_mut().enumerate() {
-            let mut s = Sampler { state: self.state[i], inc: self.inc[i] };
-            *u = s.next_1d();
-            self.state[i] = s.state;
+            *u = self.next_1d_lane(i);
         }
         u
     }
