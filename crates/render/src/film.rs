@@ -13,6 +13,7 @@
 //! bounded amount of memory (`BAND_BYTES`).
 
 use crate::filter::Filter;
+use crate::floor::{ceil_i64, floor_i64};
 use crate::image::Image;
 use glam::Vec2;
 use radiometry::Rgb;
@@ -155,11 +156,11 @@ impl RowSplats {
         let (w, r) = (self.width as i64, self.radius as f64);
         // Positions relative to pixel centres: pixel i is reached when |i − px| ≤ r.
         let (px, py) = (pos.x as f64 - 0.5, pos.y as f64 - 0.5);
-        let x0 = ceil(px - r).max(0);
-        let x1 = floor(px + r).min(w - 1);
+        let x0 = ceil_i64(px - r).max(0);
+        let x1 = floor_i64(px + r).min(w - 1);
         let (y, reach) = (self.y as i64, self.reach as i64);
-        let y0 = ceil(py - r).max(y - reach).max(0);
-        let y1 = floor(py + r).min(y + reach).min(self.height as i64 - 1);
+        let y0 = ceil_i64(py - r).max(y - reach).max(0);
+        let y1 = floor_i64(py + r).min(y + reach).min(self.height as i64 - 1);
         if x0 > x1 || y0 > y1 {
             return;
         }
@@ -184,33 +185,9 @@ impl RowSplats {
     }
 }
 
-/// ⌈x⌉ as an integer, for |x| < 2⁶³: on the baseline instruction set `f64::ceil` is a call.
-#[inline(always)]
-fn ceil(x: f64) -> i64 {
-    let t = x as i64;
-    t + ((t as f64) < x) as i64
-}
-
-/// ⌊x⌋ as an integer, for |x| < 2⁶³.
-#[inline(always)]
-fn floor(x: f64) -> i64 {
-    let t = x as i64;
-    t - ((t as f64) > x) as i64
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn integer_ceil_and_floor_match_the_library() {
-        for k in -40_000..40_000 {
-            // Integers, halves and values a rounding away from an integer.
-            for x in [k as f64 / 16.0, k as f64 / 16.0 + 1e-12, k as f64 / 16.0 - 1e-12] {
-                assert_eq!((ceil(x), floor(x)), (x.ceil() as i64, x.floor() as i64), "{x}");
-            }
-        }
-    }
 
     /// Splats n×n stratified samples per pixel of L(x, y) = x into a film and develops it.
     fn ramp_film(filter: &Filter, w: usize, h: usize, n: usize) -> Image {
