@@ -18,12 +18,13 @@ mod wide;
 
 pub use packet::{PacketLeaf, RayPacket};
 pub use tri16::{Ray16, Tri16, PACK};
+pub(crate) use wide::{Node, RayBox, WIDTH as NODE_WIDTH};
 
 use crate::ray::Ray;
 use crate::shape::Aabb;
 use build::{build_binary, BinaryNode, MAX_LEAF};
 use std::ops::Range;
-use wide::{leaf_packs, leaf_ref, Node, RayBox, LEAF, MAX_LEAF_PACKS, MAX_PACKS, WIDTH};
+use wide::{leaf_packs, leaf_ref, LEAF, MAX_LEAF_PACKS, MAX_PACKS, WIDTH};
 
 const _: () = assert!(MAX_LEAF <= PACK * MAX_LEAF_PACKS, "a leaf must fit one leaf reference");
 

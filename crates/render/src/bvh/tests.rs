@@ -215,8 +215,8 @@ fn a_few_analytic_shapes_tested_without_the_bvh_match_brute_force() {
 
 #[test]
 fn a_few_triangles_beside_analytic_shapes_tested_without_the_bvh_match_brute_force() {
-    // Up to sixty-four triangles (three packs here, the last part full, large overlapping ones
-    // included) with spheres, a rectangle and a disk: every query tests them all.
+    // Up to sixty-four triangles (large overlapping ones included, in packs whose boxes
+    // overlap) with spheres, a rectangle and a disk.
     let mut r = Rnd::new(6);
     let mut b = builder();
     add(&mut b, Geometry::Mesh(soup(&mut r, 40, 2.0)));

@@ -33,12 +33,12 @@ pub(super) fn leaf_packs(r: u32) -> std::ops::Range<usize> {
 
 /// Children per node: eight boxes fill one AVX register (two SSE ones), and the tree is
 /// shallower than a four-wide one.
-pub(super) const WIDTH: usize = 8;
+pub(crate) const WIDTH: usize = 8;
 
 /// A node: its child boxes as structure-of-arrays lanes, and the children. Four cache lines.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
-pub(super) struct Node {
+pub(crate) struct Node {
     /// `b[0]` lower and `b[1]` upper corners, by axis, one child per lane; an unused lane
     /// holds the empty box (lower +∞, upper −∞), which no ray meets.
     pub b: [[[f32; WIDTH]; 3]; 2],
@@ -72,7 +72,7 @@ pub(super) fn inverse_direction(d: glam::Vec3) -> (Vec3A, Vec3A) {
 /// A ray prepared for box tests: origin and inverse direction, and which corner (0 lower,
 /// 1 upper) is the near one on each axis.
 #[derive(Clone, Copy)]
-pub(super) struct RayBox {
+pub(crate) struct RayBox {
     o: [f32; 3],
     inv: [f32; 3],
     inv_far: [f32; 3],

@@ -174,7 +174,7 @@ impl SceneBuilder {
             few::Few::new(refs.len(), |k| match geometry(k) {
                 Geometry::Mesh(m) => {
                     let (p0, e1, e2) = corner_edges(m, refs[k].1);
-                    few::Prim::Triangle(p0, e1, e2)
+                    few::Prim::Triangle(refs[k].0, p0, e1, e2)
                 }
                 Geometry::Sphere(s) => few::Prim::Sphere(*s),
                 Geometry::Rectangle(r) => few::Prim::Flat(few::Flat::Rectangle(*r)),
