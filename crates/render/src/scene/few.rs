@@ -89,12 +89,6 @@ pub(super) struct Few {
 }
 
 impl Few {
-    /// Whether it holds no triangle: then no BVH query beats testing each primitive, not even
-    /// for a packet (a few triangles are still walked as packets, which coherent rays share).
-    pub fn analytic_only(&self) -> bool {
-        self.triangles.is_empty()
-    }
-
     /// Over `n` BVH-ordered primitives, `prim(k)` giving each.
     pub fn new(n: usize, prim: impl Fn(usize) -> Prim) -> Few {
         let mut few = Few { triangles: Vec::new(), boxes: Node::EMPTY, spheres: Vec::new(), flats: Vec::new() };
