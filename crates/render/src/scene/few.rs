@@ -78,8 +78,9 @@ impl Flat {
 /// and its flat shapes.
 #[derive(Clone, Debug)]
 pub(super) struct Few {
-    /// Each pack with its lanes' BVH-ordered primitives (`u32::MAX` when unused).
-    triangles: Vec<(Tri16, [u32; LANES])>,
+    /// Each pack with its lanes' BVH-ordered primitives (`u32::MAX` when unused) and the
+    /// number of lanes used (the first ones).
+    triangles: Vec<(Tri16, [u32; LANES], usize)>,
     /// The triangle packs' boxes, pack `i` in lane `i`: a ray tests only the packs whose box it
     /// enters before its closest hit so far.
     boxes: Node,
@@ -116,7 +117,7 @@ impl Few {
         let bounds: Vec<Aabb> = triangles.iter().map(|t| t.5).collect();
         let cuts = cheapest_cuts(&triangles.iter().map(|t| (t.2, t.3, t.4)).collect::<Vec<_>>(), &bounds, NODE_WIDTH);
         for (i, pack_range) in cuts.windows(2).enumerate() {
-            let mut pack = (Tri16::default(), [u32::MAX; LANES]);
+            let mut pack = (Tri16::default(), [u32::MAX; LANES], pack_range[1] - pack_range[0]);
             let mut bounds = Aabb::EMPTY;
             for (lane, &(_, k, p0, e1, e2, b)) in triangles[pack_range[0]..pack_range[1]].iter().enumerate() {
                 pack.0.set(lane, p0, e1, e2);
@@ -250,8 +251,8 @@ impl Scene {
                     if entry[i] > t_max {
                         break;
                     }
-                    let (pack, prims) = &few.triangles[i];
-                    if let Some((lane, t)) = pack.closest::<AVX>(&r16, t_max) {
+                    let (pack, prims, used) = &few.triangles[i];
+                    if let Some((lane, t)) = pack.closest_used::<AVX>(*used, &r16, t_max) {
                         t_max = t;
                         best = Some((prims[lane] as usize, t));
                     }
@@ -290,7 +291,8 @@ impl Scene {
                 while packs != 0 {
                     let i = packs.trailing_zeros() as usize;
                     packs &= packs - 1;
-                    if few.triangles[i].0.any::<AVX>(&r16, ray.t_max) {
+                    let (pack, _, used) = &few.triangles[i];
+                    if pack.any_used::<AVX>(*used, &r16, ray.t_max) {
                         return true;
                     }
                 }
