@@ -318,16 +318,21 @@ impl F16 {
     /// The smallest lane among those `mask` selects (+∞ for none).
     #[inline(always)]
     pub fn min_of(self, mask: M16) -> f32 {
-        let mut m = F16::splat(f32::INFINITY).blend(mask, self).0;
-        let mut w = LANES / 2;
-        while w > 0 {
-            for i in 0..w {
-                m[i] = if m[i + w] < m[i] { m[i + w] } else { m[i] };
-            }
-            w /= 2;
-        }
-        m[0]
+        min_lanes(F16::splat(f32::INFINITY).blend(mask, self).0)
     }
+}
+
+/// The smallest of `L` lanes (a power of two), by halving: vector minima of register halves.
+#[inline(always)]
+pub fn min_lanes<const L: usize>(mut m: [f32; L]) -> f32 {
+    let mut w = L / 2;
+    while w > 0 {
+        for i in 0..w {
+            m[i] = if m[i + w] < m[i] { m[i + w] } else { m[i] };
+        }
+        w /= 2;
+    }
+    m[0]
 }
 
 macro_rules! lane_op {

@@ -8,7 +8,7 @@
 //! [`intersect_triangle`]: crate::shape::mesh::intersect_triangle
 
 use super::RayPacket;
-use crate::simd::{cross, dot, F16, LANES, M16};
+use crate::simd::{cross, dot, min_lanes, F16, LANES, M16};
 use glam::Vec3;
 
 /// Triangles per pack.
@@ -113,20 +113,7 @@ fn nearest<const L: usize>(t: &[f32; L], mut mask: u32) -> (usize, f32) {
     let best = if mask & (mask - 1) == 0 {
         t[mask.trailing_zeros() as usize]
     } else {
-        let mut m = [f32::INFINITY; L];
-        for l in 0..L {
-            if mask >> l & 1 != 0 {
-                m[l] = t[l];
-            }
-        }
-        let mut w = L / 2;
-        while w > 0 {
-            for i in 0..w {
-                m[i] = if m[i + w] < m[i] { m[i + w] } else { m[i] };
-            }
-            w /= 2;
-        }
-        m[0]
+        min_lanes::<L>(std::array::from_fn(|l| if mask >> l & 1 != 0 { t[l] } else { f32::INFINITY }))
     };
     loop {
         let lane = mask.trailing_zeros() as usize;
