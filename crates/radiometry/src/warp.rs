@@ -36,6 +36,14 @@ pub fn uniform_hemisphere_pdf() -> f32 {
     0.5 * FRAC_1_PI
 }
 
+/// Uniform point on a triangle: the barycentric weights (b1, b2) of its second and third corners,
+/// by the square-root map (pbrt's `SampleUniformTriangle` before its low-distortion variant).
+#[inline]
+pub fn uniform_triangle(u: Vec2) -> Vec2 {
+    let su = u.x.sqrt();
+    Vec2::new(su * (1.0 - u.y), su * u.y)
+}
+
 /// Uniform point on the unit disk by Shirley & Chiu's concentric map (low distortion).
 #[inline]
 pub fn concentric_disk(u: Vec2) -> Vec2 {

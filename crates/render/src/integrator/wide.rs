@@ -20,7 +20,7 @@ use crate::shape::sphere::solid_angle_pdf;
 use crate::shape::{Geometry, TriangleMesh};
 use crate::simd::{dispatch, Bits, LANES};
 use glam::{Vec2, Vec3};
-use radiometry::warp::{cosine_hemisphere, cosine_hemisphere_pdf};
+use radiometry::warp::{cosine_hemisphere, cosine_hemisphere_pdf, uniform_triangle};
 use radiometry::{Frame, Rgb};
 use std::f32::consts::FRAC_1_PI;
 
@@ -413,9 +413,8 @@ impl DiffuseMeshes {
             let (mut so, mut sd, mut s_tmax, mut s_test, mut s_skip) =
                 (V3::ZERO, V3::ZERO, [0.0f32; N], [false; N], [false; N]);
             for i in 0..N {
-                let u = Vec2::new(numbers.ux[i], numbers.uy[i]);
-                let su = u.x.sqrt();
-                let (lp, lng, lns) = light_corners.surface(i, su * (1.0 - u.y), su * u.y);
+                let b = uniform_triangle(Vec2::new(numbers.ux[i], numbers.uy[i]));
+                let (lp, lng, lns) = light_corners.surface(i, b.x, b.y);
                 let (pi, ngi) = (p.get(i), ng.get(i));
                 let (pdf, pdf_ok) = solid_angle_pdf(light_pdf_area, pi, lp, lng);
                 let delta = lp - pi;

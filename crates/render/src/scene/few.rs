@@ -173,8 +173,8 @@ fn cheapest_cuts(tris: &[(Vec3, Vec3, Vec3)], bounds: &[Aabb], max_packs: usize)
     for _ in 0..SCORE_RAYS {
         let (k, u, w) = (choose.sample(sampler.next_1d()).0, sampler.next_2d(), sampler.next_2d());
         let (p0, e1, e2) = tris[k];
-        let r = u.x.sqrt();
-        let o = p0 + e1 * (1.0 - r) + e2 * (u.y * r);
+        let b = radiometry::warp::uniform_triangle(u);
+        let o = p0 + e1 * b.x + e2 * b.y;
         let d = radiometry::warp::uniform_sphere(w);
         let end = (0..n)
             .filter(|&j| j != k)

@@ -27,9 +27,9 @@ pub fn lanes_of(rays: &[Ray]) -> ([Ray; LANES], u32) {
 impl Scene {
     /// The closest hits of the rays `active` selects, as [`intersect_t`](Self::intersect_t)
     /// finds them: as a packet on the instruction set `simd` when the rays are coherent (they
-    /// point into at most two octants), else one at a time.
+    /// point into at most two octants) in a scene with a BVH, else one at a time.
     pub fn intersect_t_packet(&self, rays: &[Ray; LANES], active: u32, simd: Simd) -> PacketHits {
-        if !coherent(rays, active) {
+        if self.few.is_some() || !coherent(rays, active) {
             return self.intersect_t_packet_as(rays, active, Simd::Scalar);
         }
         self.intersect_t_packet_as(rays, active, simd)
@@ -49,7 +49,7 @@ impl Scene {
     /// The lanes of `active` whose rays are blocked, as [`occluded_but`](Self::occluded_but)
     /// with `skip[i]` for lane i says; a packet when the rays are coherent, as above.
     pub fn occluded_packet(&self, rays: &[Ray; LANES], skip: &[Option<u32>; LANES], active: u32, simd: Simd) -> u32 {
-        if !coherent(rays, active) {
+        if self.few.is_some() || !coherent(rays, active) {
             return self.occluded_packet_as(rays, skip, active, Simd::Scalar);
         }
         self.occluded_packet_as(rays, skip, active, simd)

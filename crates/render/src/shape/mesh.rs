@@ -314,9 +314,8 @@ impl TriangleMesh {
     /// A point uniformly distributed over the mesh surface, with its area pdf.
     pub fn sample_area(&self, uc: f32, u: Vec2) -> (SurfacePoint, f32) {
         let i = self.sampled_triangle(uc);
-        let su = u.x.sqrt();
-        let (b1, b2) = (su * (1.0 - u.y), su * u.y);
-        (self.surface(i, b1, b2), 1.0 / self.area().max(f32::MIN_POSITIVE))
+        let b = radiometry::warp::uniform_triangle(u);
+        (self.surface(i, b.x, b.y), 1.0 / self.area().max(f32::MIN_POSITIVE))
     }
 }
 
