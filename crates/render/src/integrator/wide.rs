@@ -274,13 +274,21 @@ impl DiffuseMeshes {
         max_depth: u32,
         rr_depth: u32,
     ) {
-        dispatch!(scene.simd(), self: DiffuseMeshes, trace(scene: &Scene, rays: &[Ray], samplers: &[Sampler],
+        dispatch!(scene.simd(), self: DiffuseMeshes, trace::<AVX>(scene: &Scene, rays: &[Ray], samplers: &[Sampler],
             out: &mut [Rgb], max_depth: u32, rr_depth: u32) -> ())
     }
 
     #[inline(always)]
     #[allow(clippy::needless_range_loop)]
-    fn trace(&self, scene: &Scene, rays: &[Ray], samplers: &[Sampler], out: &mut [Rgb], max_depth: u32, rr_depth: u32) {
+    fn trace<const AVX: bool>(
+        &self,
+        scene: &Scene,
+        rays: &[Ray],
+        samplers: &[Sampler],
+        out: &mut [Rgb],
+        max_depth: u32,
+        rr_depth: u32,
+    ) {
         if max_depth == 0 {
             out.fill(Rgb::ZERO);
             return;
@@ -344,7 +352,7 @@ impl DiffuseMeshes {
                 }
             } else {
                 for i in Bits(fresh) {
-                    hit[i] = scene.intersect_t(&camera[i]);
+                    hit[i] = scene.intersect_t_in::<AVX>(&camera[i]);
                 }
             }
             (alive, held) = (alive | fresh, held | fresh);
@@ -497,7 +505,7 @@ impl DiffuseMeshes {
             }
             numbers = draw(&mut lane_samplers);
             for i in Bits(alive) {
-                hit[i] = scene.intersect_t(&Ray::new(o.get(i), d.get(i)));
+                hit[i] = scene.intersect_t_in::<AVX>(&Ray::new(o.get(i), d.get(i)));
             }
         }
     }

@@ -300,10 +300,17 @@ impl Scene {
     /// The closest hit as (BVH-ordered primitive, distance), without shading data.
     #[inline]
     pub fn intersect_t(&self, ray: &Ray) -> Option<(usize, f32)> {
-        if let Some(few) = &self.few {
-            return dispatch!(self.simd, self: Scene, intersect_t_few::<AVX>(few: &few::Few, ray: &Ray) -> Option<(usize, f32)>);
+        dispatch!(self.simd, self: Scene, intersect_t_in::<AVX>(ray: &Ray) -> Option<(usize, f32)>)
+    }
+
+    /// [`intersect_t`](Self::intersect_t) inlined into a caller compiled for an instruction set
+    /// (`AVX`: AVX2 or AVX-512, see `dispatch!`), which saves a dispatch per ray.
+    #[inline(always)]
+    pub(crate) fn intersect_t_in<const AVX: bool>(&self, ray: &Ray) -> Option<(usize, f32)> {
+        match &self.few {
+            Some(few) => self.intersect_t_few::<AVX>(few, ray),
+            None => self.closest_walk::<AVX>(ray),
         }
-        dispatch!(self.simd, self: Scene, closest_walk::<AVX>(ray: &Ray) -> Option<(usize, f32)>)
     }
 
     /// The closest hit by testing every primitive (no BVH): the reference the BVH is tested
