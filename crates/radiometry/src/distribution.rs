@@ -76,13 +76,20 @@ impl Distribution1D {
     /// [0, 1) within the cell (reusable as a fresh uniform number).
     #[inline]
     pub fn sample(&self, u: f32) -> (usize, f32, f32) {
-        let k = ((u * self.guide_scale) as u32 as usize).min(self.guide.len() - 2);
-        // The cell is between the guides of k and k + 1: count the cell starts ≤ u there.
-        let (lo, hi) = (self.guide[k] as usize, self.guide[k + 1] as usize);
-        let i = lo + self.cdf[lo + 1..=hi].partition_point(|&c| c <= u);
+        let i = self.cell(u);
         let p = self.prob(i);
         let rest = if p > 0.0 { ((u - self.cdf[i]) / p).clamp(0.0, 1.0 - f32::EPSILON / 2.0) } else { 0.5 };
         (i, p, rest)
+    }
+
+    /// The cell [`sample`](Self::sample) picks for `u`, without its probability and rescaled
+    /// number (a caller that needs only the cell skips their division).
+    #[inline]
+    pub fn cell(&self, u: f32) -> usize {
+        let k = ((u * self.guide_scale) as u32 as usize).min(self.guide.len() - 2);
+        // The cell is between the guides of k and k + 1: count the cell starts ≤ u there.
+        let (lo, hi) = (self.guide[k] as usize, self.guide[k + 1] as usize);
+        lo + self.cdf[lo + 1..=hi].partition_point(|&c| c <= u)
     }
 }
 
@@ -152,6 +159,7 @@ mod tests {
                 if v < 1.0 {
                     let (i, p, rest) = d.sample(v);
                     assert_eq!(i, find(&d, v), "u {v}");
+                    assert_eq!(d.cell(v), find(&d, v), "cell, u {v}");
                     assert!(p > 0.0 && (0.0..1.0).contains(&rest), "u {v}: p {p}, rest {rest}");
                 }
             }

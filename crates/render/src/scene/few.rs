@@ -171,7 +171,7 @@ fn cheapest_cuts(tris: &[(Vec3, Vec3, Vec3)], bounds: &[Aabb], max_packs: usize)
     let mut sampler = crate::sampler::Sampler::new(0, 0, 0);
     let mut rays = Vec::new();
     for _ in 0..SCORE_RAYS {
-        let (k, u, w) = (choose.sample(sampler.next_1d()).0, sampler.next_2d(), sampler.next_2d());
+        let (k, u, w) = (choose.cell(sampler.next_1d()), sampler.next_2d(), sampler.next_2d());
         let (p0, e1, e2) = tris[k];
         let b = radiometry::warp::uniform_triangle(u);
         let o = p0 + e1 * b.x + e2 * b.y;

@@ -308,7 +308,7 @@ impl TriangleMesh {
     /// The triangle `sample_area(uc, _)` places its point on: chosen in proportion to area.
     #[inline]
     pub fn sampled_triangle(&self, uc: f32) -> usize {
-        self.area.sample(uc).0
+        self.area.cell(uc)
     }
 
     /// A point uniformly distributed over the mesh surface, with its area pdf.
