@@ -104,10 +104,16 @@ impl Bilinear2D {
         let k = self.cell.sample(uc, u_y).0;
         let cx = self.nx - 1;
         let (i, j) = (k % cx, k / cx);
+        self.prefetch_corners(i, j);
+        (i, j)
+    }
+
+    /// Starts loading the corners of cell (i, j) (its two rows), which `corners(i, j)` reads.
+    #[inline]
+    pub fn prefetch_corners(&self, i: usize, j: usize) {
         let at = j * self.nx + i;
         crate::prefetch::prefetch(&self.values[at]);
         crate::prefetch::prefetch(&self.values[at + self.nx]);
-        (i, j)
     }
 
     /// The cell holding point `p` of the unit square, and the fraction within it.

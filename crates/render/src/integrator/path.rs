@@ -247,6 +247,7 @@ pub(super) fn trace(
             break;
         }
         numbers = VertexNumbers::draw(sampler, scene);
+        scene.prefetch_environment(ray.d);
         hit = scene.intersect(&ray);
     }
     result

@@ -222,10 +222,27 @@ impl EnvMap {
     pub fn prefetch_sample_cell(&self, uc: f32, u: Vec2, d: EnvDensity) {
         if let Some(warp) = self.warp(d) {
             let (i, j) = warp.prefetch_cell(uc, u.y);
-            let k = j * (self.width + 1) + i;
-            radiometry::prefetch::prefetch(&self.texels[k]);
-            radiometry::prefetch::prefetch(&self.texels[k + self.width + 1]);
+            self.prefetch_texels(i, j);
         }
+    }
+
+    /// Starts loading what `eval_pdf_by(d, density)` reads: the texels and density corners of
+    /// d's cell.
+    #[inline]
+    pub fn prefetch_eval(&self, d: Vec3, density: EnvDensity) {
+        let (i, j, _) = self.cell(direction_to_uv(self.to_map(d)));
+        self.prefetch_texels(i, j);
+        if let Some(warp) = self.warp(density) {
+            warp.prefetch_corners(i, j);
+        }
+    }
+
+    /// Starts loading the two texel rows of cell (i, j).
+    #[inline]
+    fn prefetch_texels(&self, i: usize, j: usize) {
+        let k = j * (self.width + 1) + i;
+        radiometry::prefetch::prefetch(&self.texels[k]);
+        radiometry::prefetch::prefetch(&self.texels[k + self.width + 1]);
     }
 
     /// A direction towards the environment with its solid-angle density and radiance, from

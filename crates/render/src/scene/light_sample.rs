@@ -109,6 +109,16 @@ impl Scene {
         Some((le, from.map_or(0.0, |r| pdf * self.light_choice_pdf(env, r))))
     }
 
+    /// Starts loading what [`environment_eval`](Self::environment_eval)`(d, _, true)` reads
+    /// from an environment map: asked before a ray's query, the map's cache misses overlap the
+    /// walk, and they are paid only where the ray escapes. A hint; it changes no result.
+    #[inline]
+    pub fn prefetch_environment(&self, d: Vec3) {
+        if let Some(Light::EnvMap(map)) = self.environment.map(|e| &self.lights[e]) {
+            map.prefetch_eval(d, env_density(true));
+        }
+    }
+
     /// The environment map the light samples of numbers `n` sample, if any, with the numbers
     /// it takes: its own beside a choice, else the choice's (it is then the only light).
     #[inline]
