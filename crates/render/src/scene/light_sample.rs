@@ -111,7 +111,8 @@ impl Scene {
 
     /// Starts loading what [`environment_eval`](Self::environment_eval)`(d, _, true)` reads
     /// from an environment map: asked before a ray's query, the map's cache misses overlap the
-    /// walk, and they are paid only where the ray escapes. A hint; it changes no result.
+    /// walk where the ray escapes (where it hits a surface, the loads go unused). A hint; it
+    /// changes no result.
     #[inline]
     pub fn prefetch_environment(&self, d: Vec3) {
         if let Some(Light::EnvMap(map)) = self.environment.map(|e| &self.lights[e]) {
