@@ -25,50 +25,72 @@ use radiometry::{Frame, Rgb, Vec2, Vec3};
 #[derive(Clone, Copy, Debug)]
 pub struct Perturbed<N> {
     /// The perturbed normal in the local frame (any length > 0).
-    pub normal: Vec3,
+    normal: Vec3,
     /// The vector whose part orthogonal to the normal is the new tangent.
-    pub tangent: Vec3,
+    tangent: Vec3,
     /// Turn a normal that faces away from the viewer to its side.
-    pub flip_invalid: bool,
+    flip_invalid: bool,
     /// Apply the shadowing term G.
-    pub shadowing: bool,
+    shadowing: bool,
     /// The model in the perturbed frame.
     pub nested: N,
+    /// The frame of the unflipped normal and its α², built once: a path asks for it at each
+    /// light sample and the BRDF sample of a vertex (None where the normal or tangent is
+    /// degenerate).
+    plain: Option<(Frame, f32)>,
 }
 
 impl<N: Brdf> Perturbed<N> {
-    /// The perturbed frame for viewer direction `wo`.
+    /// `nested` in the frame of `normal` (any length > 0) with tangent `tangent`'s part
+    /// orthogonal to it; `flip_invalid` and `shadowing` are Mitsuba's flags.
     #[inline]
-    fn frame(&self, wo: Vec3) -> Option<Frame> {
-        let mut n = self.normal;
-        if self.flip_invalid && wo.z * wo.dot(n) <= 0.0 {
-            n = Vec3::new(-n.x, -n.y, n.z);
-        }
-        let n = n.try_normalize()?;
-        let s = (self.tangent - n * n.dot(self.tangent)).try_normalize()?;
-        Some(Frame { s, t: n.cross(s), n })
+    pub fn new(normal: Vec3, tangent: Vec3, flip_invalid: bool, shadowing: bool, nested: N) -> Self {
+        let plain = frame_of(normal, tangent);
+        Perturbed { normal, tangent, flip_invalid, shadowing, nested, plain }
     }
 
-    /// The shadowing term G for direction `w` under normal `n`.
+    /// The perturbed frame for viewer direction `wo`, with its α².
     #[inline]
-    fn g(&self, n: Vec3, w: Vec3) -> f32 {
+    fn frame(&self, wo: Vec3) -> Option<(Frame, f32)> {
+        let n = self.normal;
+        if self.flip_invalid && wo.z * wo.dot(n) <= 0.0 {
+            return frame_of(Vec3::new(-n.x, -n.y, n.z), self.tangent);
+        }
+        self.plain
+    }
+
+    /// The shadowing term G for direction `w` under a normal of α² `a2`.
+    #[inline]
+    fn g(&self, a2: f32, w: Vec3) -> f32 {
         if !self.shadowing {
             return 1.0;
         }
-        let tan2 = |c: f32| ((1.0 - c * c) / (c * c)).max(0.0);
-        let a2 = (0.125 * tan2(n.z)).min(1.0);
         2.0 / (1.0 + (1.0 + a2 * tan2(w.z)).sqrt())
     }
 }
 
+/// tan²θ for cos θ = `c`.
+#[inline]
+fn tan2(c: f32) -> f32 {
+    ((1.0 - c * c) / (c * c)).max(0.0)
+}
+
+/// The frame of normal `n` and tangent hint `tangent`, with the normal's α² = min(tan²θ_n / 8, 1).
+#[inline]
+fn frame_of(n: Vec3, tangent: Vec3) -> Option<(Frame, f32)> {
+    let n = n.try_normalize()?;
+    let s = (tangent - n * n.dot(tangent)).try_normalize()?;
+    Some((Frame { s, t: n.cross(s), n }, (0.125 * tan2(n.z)).min(1.0)))
+}
+
 impl<N: Brdf> Brdf for Perturbed<N> {
     fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
-        let Some(f) = self.frame(wo) else { return Rgb::ZERO };
+        let Some((f, a2)) = self.frame(wo) else { return Rgb::ZERO };
         let (pi, po) = (f.to_local(wi), f.to_local(wo));
         if wi.z * pi.z <= 0.0 {
             return Rgb::ZERO;
         }
-        let v = self.nested.eval(pi, po) * (pi.z.abs() / wi.z.abs() * self.g(f.n, wi));
+        let v = self.nested.eval(pi, po) * (pi.z.abs() / wi.z.abs() * self.g(a2, wi));
         if v.is_finite() {
             v
         } else {
@@ -77,7 +99,7 @@ impl<N: Brdf> Brdf for Perturbed<N> {
     }
 
     fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
-        let Some(f) = self.frame(wo) else { return 0.0 };
+        let Some((f, _)) = self.frame(wo) else { return 0.0 };
         let pi = f.to_local(wi);
         if wi.z * pi.z <= 0.0 {
             return 0.0;
@@ -87,24 +109,24 @@ impl<N: Brdf> Brdf for Perturbed<N> {
 
     /// One frame for both: a light sample's eval and pdf made it twice.
     fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
-        let Some(f) = self.frame(wo) else { return (Rgb::ZERO, 0.0) };
+        let Some((f, a2)) = self.frame(wo) else { return (Rgb::ZERO, 0.0) };
         let (pi, po) = (f.to_local(wi), f.to_local(wo));
         if wi.z * pi.z <= 0.0 {
             return (Rgb::ZERO, 0.0);
         }
         let (v, pdf) = self.nested.eval_pdf(pi, po);
-        let v = v * (pi.z.abs() / wi.z.abs() * self.g(f.n, wi));
+        let v = v * (pi.z.abs() / wi.z.abs() * self.g(a2, wi));
         (if v.is_finite() { v } else { Rgb::ZERO }, pdf)
     }
 
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample> {
-        let f = self.frame(wo)?;
+        let (f, a2) = self.frame(wo)?;
         let s = self.nested.sample(f.to_local(wo), uc, u)?;
         let wi = f.to_world(s.wi);
         if s.wi.z * wi.z <= 0.0 {
             return None;
         }
-        Some(BrdfSample { wi, weight: s.weight * self.g(f.n, wi), ..s })
+        Some(BrdfSample { wi, weight: s.weight * self.g(a2, wi), ..s })
     }
 
     fn claims(&self) -> Claims {
@@ -170,13 +192,13 @@ fn bumpmap_params() -> Vec<ParamSpec> {
 }
 
 fn perturbed(p: &dyn ParamSource, normal: Vec3) -> Result<Perturbed<crate::model::BoxedBrdf>, ParamError> {
-    Ok(Perturbed {
+    Ok(Perturbed::new(
         normal,
-        tangent: Vec3::X,
-        flip_invalid: p.flag("flip_invalid_normals"),
-        shadowing: p.flag("use_shadowing_function"),
-        nested: crate::registry::build_item(p.model("bsdf"))?,
-    })
+        Vec3::X,
+        p.flag("flip_invalid_normals"),
+        p.flag("use_shadowing_function"),
+        crate::registry::build_item(p.model("bsdf"))?,
+    ))
 }
 
 fn make_normalmap(p: &dyn ParamSource) -> Result<Perturbed<crate::model::BoxedBrdf>, ParamError> {
@@ -218,13 +240,7 @@ mod tests {
     use crate::lambert::Lambert;
 
     fn diffuse_in(normal: Vec3) -> Perturbed<Lambert> {
-        Perturbed {
-            normal,
-            tangent: Vec3::X,
-            flip_invalid: true,
-            shadowing: true,
-            nested: Lambert { albedo: Rgb::splat(0.5) },
-        }
+        Perturbed::new(normal, Vec3::X, true, true, Lambert { albedo: Rgb::splat(0.5) })
     }
 
     #[test]
@@ -247,7 +263,13 @@ mod tests {
             assert!((m.pdf(wi, wo) - p).abs() < 2e-6, "n {n} wi {wi}: pdf {} vs {p}", m.pdf(wi, wo));
         }
         // Without the flip, the first normal leaves the viewer below the perturbed horizon.
-        let m = Perturbed { flip_invalid: false, ..diffuse_in(Vec3::new(-0.9, 0.0, 0.3).normalize()) };
+        let m = Perturbed::new(
+            Vec3::new(-0.9, 0.0, 0.3).normalize(),
+            Vec3::X,
+            false,
+            true,
+            Lambert { albedo: Rgb::splat(0.5) },
+        );
         assert_eq!(m.eval(Vec3::new(0.5, 0.1, 0.8).normalize(), wo), Rgb::ZERO);
         // A flat texel is the nested model itself.
         let flat = diffuse_in(normal_from_texel(Rgb::new(0.5, 0.5, 1.0)));

@@ -224,8 +224,7 @@ impl Material {
             Material::NormalMap { map, flip_invalid, shadowing, nested } => {
                 let normal = normal_from_texel(map.eval(uv));
                 let (flip_invalid, shadowing) = (*flip_invalid, *shadowing);
-                nested
-                    .visit(si, &mut |n| f(&Perturbed { normal, tangent: Vec3::X, flip_invalid, shadowing, nested: n }))
+                nested.visit(si, &mut |n| f(&Perturbed::new(normal, Vec3::X, flip_invalid, shadowing, n)))
             }
             Material::BumpMap { height, scale, flip_invalid, shadowing, nested } => {
                 let g = height.eval_1_grad(uv).unwrap_or_default() * *scale;
@@ -238,7 +237,7 @@ impl Material {
                 }
                 let normal = si.frame.to_local(c);
                 let (flip_invalid, shadowing, tangent) = (*flip_invalid, *shadowing, si.dp_du);
-                nested.visit(si, &mut |m| f(&Perturbed { normal, tangent, flip_invalid, shadowing, nested: m }))
+                nested.visit(si, &mut |m| f(&Perturbed::new(normal, tangent, flip_invalid, shadowing, m)))
             }
         }
     }
