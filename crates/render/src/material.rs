@@ -107,6 +107,33 @@ impl Textured {
     }
 }
 
+impl Textured {
+    /// The model at `uv` handed to `f`, its textured values held in an array of `N` ≥ the
+    /// number of textured parameters.
+    #[inline]
+    fn visit<const N: usize>(&self, uv: glam::Vec2, f: &mut dyn FnMut(&dyn Brdf)) {
+        let values: [(&'static str, Value); N] = std::array::from_fn(|k| match self.textures.get(k) {
+            Some((p, tex)) => {
+                let v = match p.kind {
+                    brdf::ParamKind::Float { .. } => [tex.eval_1(uv); 3],
+                    _ => tex.eval(uv).0,
+                };
+                (p.name, p.clamp(v))
+            }
+            None => ("", Value::Float(0.0)),
+        });
+        let here = Varied::new(&self.base, &values[..self.textures.len()]);
+        let mut called = false;
+        let r = (self.spec.build.scoped)(&here, &mut |b| {
+            called = true;
+            f(b)
+        });
+        if r.is_err() && !called {
+            f(&ABSORBER);
+        }
+    }
+}
+
 /// A texture's RGB value as what parameter `p` takes: one number (the channel mean, as a
 /// constant texture's one-number lookup) or RGB.
 fn value_of(p: &ParamSpec, c: Rgb) -> [f32; 3] {
@@ -187,26 +214,14 @@ impl Material {
         let uv = si.uv;
         match self {
             Material::Fixed(b) => f(&**b),
-            Material::Textured(t) => {
-                let mut values: [(&'static str, Value); MAX_TEXTURED] =
-                    std::array::from_fn(|_| ("", Value::Float(0.0)));
-                for ((p, tex), slot) in t.textures.iter().zip(values.iter_mut()) {
-                    let v = match p.kind {
-                        brdf::ParamKind::Float { .. } => [tex.eval_1(uv); 3],
-                        _ => tex.eval(uv).0,
-                    };
-                    *slot = (p.name, p.clamp(v));
-                }
-                let here = Varied::new(&t.base, &values[..t.textures.len()]);
-                let mut called = false;
-                let r = (t.spec.build.scoped)(&here, &mut |b| {
-                    called = true;
-                    f(b)
-                });
-                if r.is_err() && !called {
-                    f(&ABSORBER);
-                }
-            }
+            // Arrays sized to the textured parameters (usually one or two): each entry is
+            // written and dropped at every hit.
+            Material::Textured(t) => match t.textures.len() {
+                0 | 1 => t.visit::<1>(uv, f),
+                2 => t.visit::<2>(uv, f),
+                3 | 4 => t.visit::<4>(uv, f),
+                _ => t.visit::<MAX_TEXTURED>(uv, f),
+            },
             Material::TwoSided(front, back) => front.visit(si, &mut |a| {
                 back.visit(si, &mut |b| match TwoSided::new(a, b) {
                     Ok(t) => f(&t),
