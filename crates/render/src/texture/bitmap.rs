@@ -253,14 +253,19 @@ impl Bitmap {
     }
 
     /// Starts loading the texels that `eval(uv)` and `eval_1(uv)` read: a hint, which changes
-    /// no result; asked for early, their cache misses overlap other work.
+    /// no result; asked for early, their cache misses overlap other work. The rows are found
+    /// by wrapping uv into [0, 1) in floating point, not by the lookup's exact integer wrap (with
+    /// its two divisions), which costs more than the load it announces: a texel off at an edge
+    /// or under another wrap mode only makes the hint miss.
     #[inline]
     pub fn prefetch(&self, uv: Vec2) {
         let uv = self.options.to_uv.apply(uv);
-        let (x0, y0, _, _) = self.footprint(uv);
+        let near = |u: f32, n: usize| (((u - floor(u)) * n as f32) as usize).min(n - 1);
+        let half = 0.5 / self.height as f32;
+        let x = near(uv.x, self.width);
         // The two rows of the bilinear footprint (a nearest lookup reads one of these texels).
-        let ks = self.corners(x0, y0);
-        for k in [ks[0], ks[2]] {
+        for y in [near(uv.y - half, self.height), near(uv.y + half, self.height)] {
+            let k = (y * self.width + x) * self.channels;
             match &self.texels {
                 Texels::Bytes(b, _) => radiometry::prefetch::prefetch(&b[k]),
                 Texels::Floats(f) => radiometry::prefetch::prefetch(&f[k]),
