@@ -105,9 +105,7 @@ impl Textured {
         t.spec.build_from(&Varied::new(&t.base, &mean)).map_err(|e| e.to_string())?;
         Ok(t)
     }
-}
 
-impl Textured {
     /// The model at `uv` handed to `f`, its textured values held in an array of `N` ≥ the
     /// number of textured parameters.
     #[inline]
