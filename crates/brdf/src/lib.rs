@@ -36,5 +36,5 @@ pub mod two_sided;
 pub mod ward;
 
 pub use model::{Brdf, BrdfSample, Claims, PhongTerms};
-pub use params::{ParamError, ParamKind, ParamSource, ParamSpec, Params, Value, Varied};
+pub use params::{AskOrder, ParamError, ParamKind, ParamSource, ParamSpec, Params, Recorder, Value, Varied};
 pub use registry::{build, build_item, find, models, parse_item, Build, ModelSpec};

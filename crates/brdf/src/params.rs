@@ -6,6 +6,7 @@
 //! [`Varied`], the same `Params` with some values replaced by a texture's at one surface point.
 
 use radiometry::Rgb;
+use std::cell::{Cell, RefCell};
 use std::fmt;
 
 /// What values a parameter takes.
@@ -396,16 +397,122 @@ impl ParamSource for Params {
 
 /// `Params` with some values replaced: a textured material's parameters at one surface point.
 /// Borrowed, so that a renderer builds it on the stack at every hit.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Varied<'a> {
     base: &'a Params,
     values: &'a [(&'static str, Value)],
+    /// The questions a build of the same model asked before, answered from their places.
+    order: Option<&'a AskOrder>,
+    /// The next question of `order`.
+    next: Cell<usize>,
 }
 
 impl<'a> Varied<'a> {
     /// `base` with `values` (already in range: see [`ParamSpec::clamp`]) in place of its own.
     pub fn new(base: &'a Params, values: &'a [(&'static str, Value)]) -> Self {
-        Varied { base, values }
+        Varied { base, values, order: None, next: Cell::new(0) }
+    }
+
+    /// The same, answering the questions of `order` (recorded with values of the same names in
+    /// the same places) from where they were answered then, without searching by name; a
+    /// question asked otherwise is searched for.
+    pub fn with_order(mut self, order: &'a AskOrder) -> Self {
+        self.order = Some(order);
+        self
+    }
+
+    /// Where the recorded order answers `name` (a `was_given` question when `given`), if it
+    /// is the question it expects next.
+    #[inline]
+    fn replay(&self, name: &str, given: bool) -> Option<Slot> {
+        let k = self.next.get();
+        let ask = self.order?.0.get(k)?;
+        (ask.given == given && ask.name == name_key(name)).then(|| {
+            self.next.set(k + 1);
+            ask.at
+        })
+    }
+
+    /// Where `name` is answered: a varied value, else the base entry.
+    fn slot(&self, name: &str) -> Option<Slot> {
+        match self.values.iter().position(|(n, _)| same_name(n, name)) {
+            Some(k) => Some(Slot::Varied(k)),
+            None => self.base.index(name).map(Slot::Base),
+        }
+    }
+
+    /// The value at `slot`.
+    #[inline]
+    fn at(&self, slot: Slot) -> Option<&Value> {
+        match slot {
+            Slot::Varied(k) => self.values.get(k).map(|v| &v.1),
+            Slot::Base(i) => self.base.values.get(i).map(|v| &v.1),
+        }
+    }
+}
+
+/// The questions one build of a model asked of its parameters, in order, with where each was
+/// answered: the builds of a textured material at every hit ask the same questions, which
+/// [`Varied::with_order`] then answers without searching by name (the build of a textured
+/// microfacet model asks about fifteen).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct AskOrder(Vec<Ask>);
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Ask {
+    /// The name's address and length: models ask with their specs' string constants.
+    name: (usize, usize),
+    /// A `was_given` question rather than a `value` one.
+    given: bool,
+    at: Slot,
+}
+
+/// Where an answer lies.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Slot {
+    /// The varied value of this index.
+    Varied(usize),
+    /// The base entry of this index.
+    Base(usize),
+}
+
+fn name_key(name: &str) -> (usize, usize) {
+    (name.as_ptr() as usize, name.len())
+}
+
+/// A [`Varied`] that writes down the questions asked of it ([`AskOrder`]).
+pub struct Recorder<'a> {
+    varied: Varied<'a>,
+    asks: RefCell<Vec<Ask>>,
+}
+
+impl<'a> Recorder<'a> {
+    /// Records the questions asked of `Varied::new(base, values)`.
+    pub fn new(base: &'a Params, values: &'a [(&'static str, Value)]) -> Self {
+        Recorder { varied: Varied::new(base, values), asks: RefCell::new(Vec::new()) }
+    }
+
+    /// The questions asked so far.
+    pub fn order(self) -> AskOrder {
+        AskOrder(self.asks.into_inner())
+    }
+
+    fn note(&self, name: &str, given: bool) {
+        if let Some(at) = self.varied.slot(name) {
+            self.asks.borrow_mut().push(Ask { name: name_key(name), given, at });
+        }
+    }
+}
+
+impl ParamSource for Recorder<'_> {
+    fn value(&self, name: &str) -> &Value {
+        self.note(name, false);
+        self.varied.value(name)
+    }
+
+    fn was_given(&self, name: &str) -> bool {
+        self.note(name, true);
+        self.varied.was_given(name)
     }
 }
 
@@ -418,11 +525,18 @@ fn same_name(a: &str, b: &str) -> bool {
 
 impl ParamSource for Varied<'_> {
     fn value(&self, name: &str) -> &Value {
+        if let Some(v) = self.replay(name, false).and_then(|s| self.at(s)) {
+            return v;
+        }
         self.values.iter().find(|(n, _)| same_name(n, name)).map_or_else(|| self.base.value(name), |(_, v)| v)
     }
 
     fn was_given(&self, name: &str) -> bool {
-        self.values.iter().any(|(n, _)| same_name(n, name)) || self.base.was_given(name)
+        match self.replay(name, true) {
+            Some(Slot::Varied(_)) => true,
+            Some(Slot::Base(i)) => self.base.values[i].2,
+            None => self.values.iter().any(|(n, _)| same_name(n, name)) || self.base.was_given(name),
+        }
     }
 }
 
@@ -481,5 +595,30 @@ mod tests {
         assert_eq!(here.rgb("ks"), Rgb::new(0.5, 1.0, 0.0));
         assert_eq!(here.float("ke"), 5.0);
         assert!(here.was_given("ks"));
+    }
+
+    /// The questions of one build, asked again in the same order or in another, get the
+    /// answers a search by name gives.
+    #[test]
+    fn recorded_questions_are_answered_as_by_name() {
+        let s = specs();
+        let p = Params::from_values("m", &s, &[("ke", Value::Float(5.0))]).unwrap();
+        let ask = |q: &dyn ParamSource, order: &[&str]| -> Vec<String> {
+            order.iter().map(|&n| format!("{:?} {}", q.value(n), q.was_given(n))).collect()
+        };
+        let first = [("ks", Value::Rgb([0.1, 0.2, 0.3]))];
+        let recorder = Recorder::new(&p, &first);
+        let names = ["ke", "ks", "fresnel", "anisotropic"];
+        ask(&recorder, &names);
+        let order = recorder.order();
+        assert_eq!(order.0.len(), 2 * names.len());
+        let here = [("ks", Value::Rgb([0.7, 0.8, 0.9]))];
+        // A name equal in text but at another address is found by the search.
+        let copied = String::from("ks");
+        for asked in [&names[..], &["fresnel", "ke", "ks", "ke"], &["ke", copied.as_str(), "anisotropic"]] {
+            let by_name = ask(&Varied::new(&p, &here), asked);
+            assert_eq!(ask(&Varied::new(&p, &here).with_order(&order), asked), by_name, "{asked:?}");
+        }
+        assert_eq!(ask(&Varied::new(&p, &here).with_order(&order), &names)[1], "Rgb([0.7, 0.8, 0.9]) true");
     }
 }

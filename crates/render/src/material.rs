@@ -17,7 +17,7 @@ use brdf::lambert::Lambert;
 use brdf::mask::Mask;
 use brdf::perturbed::{normal_from_texel, Perturbed};
 use brdf::two_sided::TwoSided;
-use brdf::{Brdf, ModelSpec, ParamSpec, Params, Value, Varied};
+use brdf::{AskOrder, Brdf, ModelSpec, ParamSpec, Params, Recorder, Value, Varied};
 use glam::Vec3;
 use radiometry::Rgb;
 use std::sync::Arc;
@@ -85,6 +85,8 @@ pub struct Textured {
     pub base: Params,
     /// The textured parameters: description and texture.
     pub textures: Vec<(ParamSpec, Texture)>,
+    /// The questions the model's build asks of its parameters, recorded at the first build.
+    order: AskOrder,
 }
 
 impl Textured {
@@ -99,10 +101,12 @@ impl Textured {
                 return Err(format!("parameter '{}' of model '{}' cannot be given a texture", p.name, spec.name));
             }
         }
-        let t = Textured { spec, base, textures };
+        let mut t = Textured { spec, base, textures, order: AskOrder::default() };
         let mean: Vec<(&'static str, Value)> =
             t.textures.iter().map(|(p, tex)| (p.name, p.clamp(value_of(p, tex.mean())))).collect();
-        t.spec.build_from(&Varied::new(&t.base, &mean)).map_err(|e| e.to_string())?;
+        let recorder = Recorder::new(&t.base, &mean);
+        t.spec.build_from(&recorder).map_err(|e| e.to_string())?;
+        t.order = recorder.order();
         Ok(t)
     }
 
@@ -120,7 +124,7 @@ impl Textured {
             }
             None => ("", Value::Float(0.0)),
         });
-        let here = Varied::new(&self.base, &values[..self.textures.len()]);
+        let here = Varied::new(&self.base, &values[..self.textures.len()]).with_order(&self.order);
         let mut called = false;
         let r = (self.spec.build.scoped)(&here, &mut |b| {
             called = true;
