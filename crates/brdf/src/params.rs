@@ -255,15 +255,17 @@ pub enum ParamError {
 
 /// Where a model's build reads its parameters: every parameter has a value (given or
 /// defaulted, range-checked). Asking for an undeclared name is a programming error and panics.
+/// Names are `'static` (a model's own constants), so that a recorded question can be known
+/// again by its name's address alone ([`AskOrder`]).
 pub trait ParamSource {
     /// The value of parameter `name`.
-    fn value(&self, name: &str) -> &Value;
+    fn value(&self, name: &'static str) -> &Value;
 
     /// True when `name` was given rather than defaulted.
-    fn was_given(&self, name: &str) -> bool;
+    fn was_given(&self, name: &'static str) -> bool;
 
     /// A real parameter.
-    fn float(&self, name: &str) -> f32 {
+    fn float(&self, name: &'static str) -> f32 {
         match self.value(name) {
             Value::Float(v) => *v as f32,
             other => panic!("parameter '{name}' is {other:?}, not a float"),
@@ -271,7 +273,7 @@ pub trait ParamSource {
     }
 
     /// An RGB parameter.
-    fn rgb(&self, name: &str) -> Rgb {
+    fn rgb(&self, name: &'static str) -> Rgb {
         match self.value(name) {
             Value::Rgb([r, g, b]) => Rgb::new(*r as f32, *g as f32, *b as f32),
             other => panic!("parameter '{name}' is {other:?}, not RGB"),
@@ -279,7 +281,7 @@ pub trait ParamSource {
     }
 
     /// A choice parameter.
-    fn choice(&self, name: &str) -> &str {
+    fn choice(&self, name: &'static str) -> &str {
         match self.value(name) {
             Value::Choice(s) => s,
             other => panic!("parameter '{name}' is {other:?}, not a choice"),
@@ -287,7 +289,7 @@ pub trait ParamSource {
     }
 
     /// A file path ("" when none was given).
-    fn path(&self, name: &str) -> &str {
+    fn path(&self, name: &'static str) -> &str {
         match self.value(name) {
             Value::Path(p) => p,
             other => panic!("parameter '{name}' is {other:?}, not a path"),
@@ -295,7 +297,7 @@ pub trait ParamSource {
     }
 
     /// A flag.
-    fn flag(&self, name: &str) -> bool {
+    fn flag(&self, name: &'static str) -> bool {
         match self.value(name) {
             Value::Bool(b) => *b,
             other => panic!("parameter '{name}' is {other:?}, not a flag"),
@@ -303,7 +305,7 @@ pub trait ParamSource {
     }
 
     /// A nested model, as written.
-    fn model(&self, name: &str) -> &str {
+    fn model(&self, name: &'static str) -> &str {
         match self.value(name) {
             Value::Model(m) => m,
             other => panic!("parameter '{name}' is {other:?}, not a model"),
@@ -383,14 +385,14 @@ pub fn find_spec<'s>(model: &str, specs: &'s [ParamSpec], name: &str) -> Result<
 }
 
 impl ParamSource for Params {
-    fn value(&self, name: &str) -> &Value {
+    fn value(&self, name: &'static str) -> &Value {
         match self.index(name) {
             Some(i) => &self.values[i].1,
             None => panic!("model asked for undeclared parameter '{name}'"),
         }
     }
 
-    fn was_given(&self, name: &str) -> bool {
+    fn was_given(&self, name: &'static str) -> bool {
         self.index(name).is_some_and(|i| self.values[i].2)
     }
 }
@@ -460,7 +462,8 @@ pub struct AskOrder(Vec<Ask>);
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Ask {
-    /// The name's address and length: models ask with their specs' string constants.
+    /// The name's address and length, which identify its text: names are `'static`, never
+    /// freed and replaced by another.
     name: (usize, usize),
     /// A `was_given` question rather than a `value` one.
     given: bool,
@@ -505,12 +508,12 @@ impl<'a> Recorder<'a> {
 }
 
 impl ParamSource for Recorder<'_> {
-    fn value(&self, name: &str) -> &Value {
+    fn value(&self, name: &'static str) -> &Value {
         self.note(name, false);
         self.varied.value(name)
     }
 
-    fn was_given(&self, name: &str) -> bool {
+    fn was_given(&self, name: &'static str) -> bool {
         self.note(name, true);
         self.varied.was_given(name)
     }
@@ -524,14 +527,14 @@ fn same_name(a: &str, b: &str) -> bool {
 }
 
 impl ParamSource for Varied<'_> {
-    fn value(&self, name: &str) -> &Value {
+    fn value(&self, name: &'static str) -> &Value {
         if let Some(v) = self.replay(name, false).and_then(|s| self.at(s)) {
             return v;
         }
         self.values.iter().find(|(n, _)| same_name(n, name)).map_or_else(|| self.base.value(name), |(_, v)| v)
     }
 
-    fn was_given(&self, name: &str) -> bool {
+    fn was_given(&self, name: &'static str) -> bool {
         match self.replay(name, true) {
             Some(Slot::Varied(_)) => true,
             Some(Slot::Base(i)) => self.base.values[i].2,
@@ -603,7 +606,7 @@ mod tests {
     fn recorded_questions_are_answered_as_by_name() {
         let s = specs();
         let p = Params::from_values("m", &s, &[("ke", Value::Float(5.0))]).unwrap();
-        let ask = |q: &dyn ParamSource, order: &[&str]| -> Vec<String> {
+        let ask = |q: &dyn ParamSource, order: &[&'static str]| -> Vec<String> {
             order.iter().map(|&n| format!("{:?} {}", q.value(n), q.was_given(n))).collect()
         };
         let first = [("ks", Value::Rgb([0.1, 0.2, 0.3]))];
@@ -614,8 +617,8 @@ mod tests {
         assert_eq!(order.0.len(), 2 * names.len());
         let here = [("ks", Value::Rgb([0.7, 0.8, 0.9]))];
         // A name equal in text but at another address is found by the search.
-        let copied = String::from("ks");
-        for asked in [&names[..], &["fresnel", "ke", "ks", "ke"], &["ke", copied.as_str(), "anisotropic"]] {
+        let copied: &'static str = Box::leak(String::from("ks").into_boxed_str());
+        for asked in [&names[..], &["fresnel", "ke", "ks", "ke"], &["ke", copied, "anisotropic"]] {
             let by_name = ask(&Varied::new(&p, &here), asked);
             assert_eq!(ask(&Varied::new(&p, &here).with_order(&order), asked), by_name, "{asked:?}");
         }

@@ -30,7 +30,7 @@ use crate::params::ParamSource;
 use radiometry::{Rgb, Vec2, Vec3};
 
 /// Mitsuba's "has" flag of a parameter: given, and not 0 (a 0 reads as the parameter absent).
-pub(crate) fn has(p: &dyn ParamSource, name: &str) -> bool {
+pub(crate) fn has(p: &dyn ParamSource, name: &'static str) -> bool {
     p.was_given(name) && p.float(name) != 0.0
 }
 

@@ -19,7 +19,7 @@ pub fn params(default_alpha: f64, alpha_doc: &'static str) -> Vec<ParamSpec> {
 
 /// The resolved (α_x, α_y); an anisotropic value between 0 and `ALPHA_MIN` is an error.
 pub fn from_params(p: &dyn ParamSource) -> Result<(f32, f32), ParamError> {
-    let axis = |name: &str| {
+    let axis = |name: &'static str| {
         let v = p.float(name);
         if v == 0.0 {
             Ok(p.float("alpha"))

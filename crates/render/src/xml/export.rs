@@ -86,12 +86,12 @@ fn refusal(name: &str) -> String {
 }
 
 /// The value of `name`, under its own name.
-fn own(params: &Params, name: &str) -> (String, Value) {
+fn own(params: &Params, name: &'static str) -> (String, Value) {
     (name.to_string(), params.value(name).clone())
 }
 
 /// A real parameter's value, in full precision (`ParamSource::float` rounds to f32).
-fn real(params: &Params, name: &str) -> f64 {
+fn real(params: &Params, name: &'static str) -> f64 {
     match params.value(name) {
         Value::Float(v) => *v,
         other => unreachable!("parameter '{name}' is {other:?}, not a float"),
@@ -167,7 +167,7 @@ fn fresnel_props(name: &str, params: &Params) -> Result<Vec<(String, Value)>, St
 }
 
 /// Nested model parameter `param` of wrapper `name`, as an element.
-fn nested_xml(name: &str, params: &Params, param: &str) -> Result<String, String> {
+fn nested_xml(name: &str, params: &Params, param: &'static str) -> Result<String, String> {
     let item = params.model(param);
     let why = |e: String| format!("{name}: its {param} '{item}': {e}");
     let (spec, given) = brdf::parse_item(item).map_err(|e| why(e.to_string()))?;
