@@ -426,10 +426,10 @@ impl<'a> Varied<'a> {
     /// Where the recorded order answers `name` (a `was_given` question when `given`), if it
     /// is the question it expects next.
     #[inline]
-    fn replay(&self, name: &str, given: bool) -> Option<Slot> {
+    fn replay(&self, name: &'static str, given: bool) -> Option<Slot> {
         let k = self.next.get();
         let ask = self.order?.0.get(k)?;
-        (ask.given == given && ask.name == name_key(name)).then(|| {
+        (ask.given == given && std::ptr::eq(ask.name, name)).then(|| {
             self.next.set(k + 1);
             ask.at
         })
@@ -462,9 +462,9 @@ pub struct AskOrder(Vec<Ask>);
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Ask {
-    /// The name's address and length, which identify its text: names are `'static`, never
-    /// freed and replaced by another.
-    name: (usize, usize),
+    /// Known again by its address and length alone, which identify its text: names are
+    /// `'static`, never freed and replaced by another.
+    name: &'static str,
     /// A `was_given` question rather than a `value` one.
     given: bool,
     at: Slot,
@@ -477,10 +477,6 @@ enum Slot {
     Varied(usize),
     /// The base entry of this index.
     Base(usize),
-}
-
-fn name_key(name: &str) -> (usize, usize) {
-    (name.as_ptr() as usize, name.len())
 }
 
 /// A [`Varied`] that writes down the questions asked of it ([`AskOrder`]).
@@ -500,9 +496,9 @@ impl<'a> Recorder<'a> {
         AskOrder(self.asks.into_inner())
     }
 
-    fn note(&self, name: &str, given: bool) {
+    fn note(&self, name: &'static str, given: bool) {
         if let Some(at) = self.varied.slot(name) {
-            self.asks.borrow_mut().push(Ask { name: name_key(name), given, at });
+            self.asks.borrow_mut().push(Ask { name, given, at });
         }
     }
 }
