@@ -142,6 +142,8 @@ pub(super) fn trace(
     // Russian roulette), and numbers drawn for a vertex the path never reaches go unused: the
     // stream is the sample's own, so the image does not change.
     let mut numbers = numbers;
+    // Where the ray's direction falls on an environment map, once asked (bounce rays).
+    let mut looked = None;
     // Values are borrowed rather than moved where they were just written field by field (the
     // hit, the light sample, the next step): moved, they were copied with wide loads that
     // waited on the narrow stores (perf).
@@ -150,7 +152,7 @@ pub(super) fn trace(
             if !hide_emitters || scattered {
                 // The light pdf only where a BRDF sample needs its MIS weight.
                 let from = prev.as_ref().filter(|pv| !pv.delta);
-                if let Some((le, pdf)) = scene.environment_eval(ray.d, from.map(|pv| &pv.r), true) {
+                if let Some((le, pdf)) = scene.environment_eval_at(ray.d, looked.as_ref(), from.map(|pv| &pv.r), true) {
                     let w = from.map_or(1.0, |pv| power_heuristic(pv.pdf, pdf));
                     result += beta * le * w;
                 }
@@ -247,7 +249,7 @@ pub(super) fn trace(
             break;
         }
         numbers = VertexNumbers::draw(sampler, scene);
-        scene.prefetch_environment(ray.d);
+        looked = scene.prefetch_environment(ray.d);
         hit = scene.intersect(&ray);
     }
     result

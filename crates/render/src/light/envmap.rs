@@ -53,6 +53,17 @@ pub struct EnvMap {
     to_world: Option<glam::Mat3>,
 }
 
+/// Where a direction falls on an environment map: the direction in the map's frame and its
+/// cell (i, j) with the place f in it. Found once before a ray's query, it serves both the
+/// prefetch and, where the ray escapes, the lookup (the angles cost as much as the lookup).
+#[derive(Clone, Copy, Debug)]
+pub struct EnvLookup {
+    m: Vec3,
+    i: usize,
+    j: usize,
+    f: Vec2,
+}
+
 /// Which density an environment map's light samples follow.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum EnvDensity {
@@ -177,8 +188,8 @@ impl EnvMap {
 
     /// Radiance arriving from direction `d` (unit, pointing away from the scene).
     pub fn eval(&self, d: Vec3) -> Rgb {
-        let (i, j, f) = self.cell(direction_to_uv(self.to_map(d)));
-        self.radiance(i, j, f)
+        let l = self.lookup(d);
+        self.radiance(l.i, l.j, l.f)
     }
 
     /// The solid-angle density at place `f` of cell (i, j), where sin θ = `sin_t`.
@@ -226,14 +237,21 @@ impl EnvMap {
         }
     }
 
-    /// Starts loading what `eval_pdf_by(d, density)` reads: the texels and density corners of
-    /// d's cell.
+    /// Where direction `d` falls on the map, for [`eval_pdf_at`](Self::eval_pdf_at).
     #[inline]
-    pub fn prefetch_eval(&self, d: Vec3, density: EnvDensity) {
-        let (i, j, _) = self.cell(direction_to_uv(self.to_map(d)));
-        self.prefetch_texels(i, j);
+    pub fn lookup(&self, d: Vec3) -> EnvLookup {
+        let m = self.to_map(d);
+        let (i, j, f) = self.cell(direction_to_uv(m));
+        EnvLookup { m, i, j, f }
+    }
+
+    /// Starts loading what [`eval_pdf_at`](Self::eval_pdf_at)`(l, density)` reads: the texels
+    /// and density corners of l's cell.
+    #[inline]
+    pub fn prefetch_eval(&self, l: &EnvLookup, density: EnvDensity) {
+        self.prefetch_texels(l.i, l.j);
         if let Some(warp) = self.warp(density) {
-            warp.prefetch_corners(i, j);
+            warp.prefetch_corners(l.i, l.j);
         }
     }
 
@@ -300,9 +318,13 @@ impl EnvMap {
 
     /// [`eval_pdf`](Self::eval_pdf) with the density `density`.
     pub fn eval_pdf_by(&self, d: Vec3, density: EnvDensity) -> (Rgb, f32) {
-        let m = self.to_map(d);
-        let (i, j, f) = self.cell(direction_to_uv(m));
-        (self.radiance(i, j, f), self.pdf_in_cell(m, i, j, f, density))
+        self.eval_pdf_at(&self.lookup(d), density)
+    }
+
+    /// [`eval_pdf_by`](Self::eval_pdf_by) where the direction's [`lookup`](Self::lookup) is `l`.
+    #[inline]
+    pub fn eval_pdf_at(&self, l: &EnvLookup, density: EnvDensity) -> (Rgb, f32) {
+        (self.radiance(l.i, l.j, l.f), self.pdf_in_cell(l.m, l.i, l.j, l.f, density))
     }
 
     /// The density of `sample` for direction `d`.
@@ -312,9 +334,8 @@ impl EnvMap {
 
     /// The density of `sample_by(…, density)` for direction `d`.
     pub fn pdf_by(&self, d: Vec3, density: EnvDensity) -> f32 {
-        let m = self.to_map(d);
-        let (i, j, f) = self.cell(direction_to_uv(m));
-        self.pdf_in_cell(m, i, j, f, density)
+        let l = self.lookup(d);
+        self.pdf_in_cell(l.m, l.i, l.j, l.f, density)
     }
 
     /// The density `density` for map direction `m`, at place `f` of its cell (i, j).

@@ -7,7 +7,7 @@
 //! sampled beside it, for 6 % more time.
 
 use super::Scene;
-use crate::light::envmap::{EnvDensity, EnvMap};
+use crate::light::envmap::{EnvDensity, EnvLookup, EnvMap};
 use crate::light::{Light, LightSample, RefPoint};
 use crate::sampler::Sampler;
 use glam::{Vec2, Vec3};
@@ -99,10 +99,26 @@ impl Scene {
     /// 0); one map lookup serves both. None without an environment.
     #[inline]
     pub fn environment_eval(&self, d: Vec3, from: Option<&RefPoint>, mis: bool) -> Option<(Rgb, f32)> {
+        self.environment_eval_at(d, None, from, mis)
+    }
+
+    /// [`environment_eval`](Self::environment_eval) where `looked` is what
+    /// [`prefetch_environment`](Self::prefetch_environment)`(d)` returned, if it was asked.
+    #[inline]
+    pub fn environment_eval_at(
+        &self,
+        d: Vec3,
+        looked: Option<&EnvLookup>,
+        from: Option<&RefPoint>,
+        mis: bool,
+    ) -> Option<(Rgb, f32)> {
         let env = self.environment?;
         let (le, pdf) = match &self.lights[env] {
             Light::Constant(c) => (c.radiance, from.map_or(0.0, |r| c.pdf(r, d))),
-            Light::EnvMap(e) if from.is_some() => e.eval_pdf_by(d, env_density(mis)),
+            Light::EnvMap(e) if from.is_some() => match looked {
+                Some(l) => e.eval_pdf_at(l, env_density(mis)),
+                None => e.eval_pdf_by(d, env_density(mis)),
+            },
             Light::EnvMap(e) => (e.eval(d), 0.0),
             _ => return None,
         };
@@ -112,12 +128,14 @@ impl Scene {
     /// Starts loading what [`environment_eval`](Self::environment_eval)`(d, _, true)` reads
     /// from an environment map: asked before a ray's query, the map's cache misses overlap the
     /// walk where the ray escapes (where it hits a surface, the loads go unused). A hint; it
-    /// changes no result.
+    /// changes no result. Returns where d falls on the map, for
+    /// [`environment_eval_at`](Self::environment_eval_at).
     #[inline]
-    pub fn prefetch_environment(&self, d: Vec3) {
-        if let Some(Light::EnvMap(map)) = self.environment.map(|e| &self.lights[e]) {
-            map.prefetch_eval(d, env_density(true));
-        }
+    pub fn prefetch_environment(&self, d: Vec3) -> Option<EnvLookup> {
+        let Some(Light::EnvMap(map)) = self.environment.map(|e| &self.lights[e]) else { return None };
+        let l = map.lookup(d);
+        map.prefetch_eval(&l, env_density(true));
+        Some(l)
     }
 
     /// The environment map the light samples of numbers `n` sample, if any, with the numbers
