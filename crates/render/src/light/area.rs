@@ -31,7 +31,8 @@ impl AreaLight {
 
     /// A point on the shape seen from `r`.
     pub fn sample(&self, geometry: &Geometry, r: &RefPoint, uc: f32, u: Vec2) -> Option<LightSample> {
-        let s = geometry.sample(r.p, uc, u)?;
+        // Only a textured radiance reads the point's uv.
+        let s = geometry.sample(r.p, uc, u, !matches!(self.radiance, Texture::Constant(_)))?;
         let delta = s.p - r.p;
         let dist = delta.length();
         let wi = delta / dist;

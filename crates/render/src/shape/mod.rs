@@ -138,10 +138,11 @@ impl Geometry {
         }
     }
 
-    /// A point on the shape seen from `r`, with its solid-angle density at `r`.
-    pub fn sample(&self, r: Vec3, uc: f32, u: Vec2) -> Option<ShapeSample> {
+    /// A point on the shape seen from `r`, with its solid-angle density at `r`; its uv may be
+    /// left zero on a sphere unless `with_uv`.
+    pub fn sample(&self, r: Vec3, uc: f32, u: Vec2, with_uv: bool) -> Option<ShapeSample> {
         let (point, pdf_area) = match self {
-            Geometry::Sphere(s) => return s.sample(r, u),
+            Geometry::Sphere(s) => return s.sample(r, u, with_uv),
             Geometry::Mesh(m) => m.sample_area(uc, u),
             Geometry::Rectangle(q) => q.sample_area(u),
             Geometry::Disk(d) => d.sample_area(u),

@@ -51,8 +51,7 @@ impl Sphere {
 
     /// The surface data at `p` (on the sphere).
     pub fn surface(&self, p: Vec3) -> SurfacePoint {
-        let n0 = self.normal_out(p);
-        let p = self.center + n0 * self.radius;
+        let (p, n, n0) = self.point(p);
         let q = self.rotation.transpose() * n0;
         let mut phi = crate::atan::atan2(q.y, q.x);
         if phi < 0.0 {
@@ -63,7 +62,6 @@ impl Sphere {
         let theta = crate::atan::atan2(rd, q.z);
         let dv = if rd == 0.0 { Vec3::X } else { Vec3::new(q.z * q.x / rd, q.z * q.y / rd, -rd) };
         let lin = self.rotation * self.radius;
-        let n = if self.flip { -n0 } else { n0 };
         SurfacePoint {
             p,
             ng: n,
@@ -72,6 +70,14 @@ impl Sphere {
             dp_du: lin * Vec3::new(-q.y, q.x, 0.0) * TAU,
             dp_dv: lin * dv * PI,
         }
+    }
+
+    /// The point of the sphere at (or nearest) `p`, its unit normal (inwards when flipped) and
+    /// the outward one: what [`surface`](Self::surface) finds without the angles of its uv.
+    #[inline]
+    fn point(&self, p: Vec3) -> (Vec3, Vec3, Vec3) {
+        let n0 = self.normal_out(p);
+        (self.center + n0 * self.radius, if self.flip { -n0 } else { n0 }, n0)
     }
 
     /// The outward unit normal at (or near) `p`, whatever `flip`.
@@ -137,14 +143,19 @@ impl Sphere {
 
     /// A point on the sphere for reference point `r`: from outside, uniform over the
     /// subtended cone (the visible cap); from inside, uniform over the area.
-    pub fn sample(&self, r: Vec3, u: Vec2) -> Option<ShapeSample> {
+    pub fn sample(&self, r: Vec3, u: Vec2, with_uv: bool) -> Option<ShapeSample> {
+        // The point and normal as `surface` finds them; its uv (two arctangents) only when asked.
+        let at = |p: Vec3, pdf: f32| {
+            let (q, n, _) = self.point(p);
+            ShapeSample { p: q, n, ns: n, uv: if with_uv { self.surface(p).uv } else { Vec2::ZERO }, pdf }
+        };
         let dc = self.center - r;
         let dist2 = dc.length_squared();
         let r2 = self.radius * self.radius;
         if dist2 <= r2 * (1.0 + 1e-4) {
-            let s = self.surface(self.center + uniform_sphere(u) * self.radius);
-            let pdf = area_to_solid_angle(1.0 / self.area(), r, s.p, s.ng)?;
-            return Some(ShapeSample { p: s.p, n: s.ng, ns: s.ns, uv: s.uv, pdf });
+            let p = self.center + uniform_sphere(u) * self.radius;
+            let (q, n, _) = self.point(p);
+            return Some(at(p, area_to_solid_angle(1.0 / self.area(), r, q, n)?));
         }
         let dist = dist2.sqrt();
         // cos θmax from sin²θmax = r²/d², computed without cancellation near 1.
@@ -155,8 +166,7 @@ impl Sphere {
         let d = Frame::from_normal(w).to_world(local);
         // Nearest intersection; at the rim, rounding may miss: take the closest approach.
         let t = self.intersect(r, d, f32::INFINITY).unwrap_or_else(|| dc.dot(d));
-        let s = self.surface(r + d * t);
-        Some(ShapeSample { p: s.p, n: s.ng, ns: s.ns, uv: s.uv, pdf: cone_pdf(sin2, cos_max) })
+        Some(at(r + d * t, cone_pdf(sin2, cos_max)))
     }
 
     /// Solid-angle density of `sample` from `r` producing the point `p`.
@@ -221,7 +231,11 @@ mod tests {
         let r = Vec3::new(0.0, 0.0, -1.0);
         let mut rng = crate::sampler::Sampler::new(1, 2, 3);
         for _ in 0..1000 {
-            let smp = s.sample(r, rng.next_2d()).unwrap();
+            let u = rng.next_2d();
+            let smp = s.sample(r, u, true).unwrap();
+            // The uv of the point before it is projected onto the sphere: within rounding.
+            assert!((smp.uv - s.surface(smp.p).uv).abs().max_element() < 1e-6);
+            assert_eq!(s.sample(r, u, false).map(|f| (f.p, f.n, f.pdf)), Some((smp.p, smp.n, smp.pdf)));
             assert!(((smp.p - s.center).length() - 0.5).abs() < 1e-5);
             assert!((smp.n.dot(r - smp.p)) >= -1e-4, "the sampled point faces the reference");
             assert_eq!(smp.pdf, s.pdf(r, smp.p));
@@ -231,7 +245,7 @@ mod tests {
         let omega = 2.0 * PI * (1.0 - (1.0 - sin2).sqrt());
         assert!((s.pdf(r, s.center) * omega - 1.0).abs() < 1e-4);
         // From inside: area sampling, pdf = dist²/(A cos).
-        let smp = s.sample(s.center, Vec2::new(0.3, 0.4)).unwrap();
+        let smp = s.sample(s.center, Vec2::new(0.3, 0.4), false).unwrap();
         assert!((smp.pdf - 0.25 / s.area()).abs() < 1e-5);
     }
 }
