@@ -92,6 +92,10 @@ impl Brdf for Dielectric {
         true
     }
 
+    fn delta_only(&self) -> bool {
+        true
+    }
+
     fn transmits(&self) -> bool {
         true
     }

@@ -56,6 +56,10 @@ impl Brdf for Mirror {
     fn has_delta(&self) -> bool {
         true
     }
+
+    fn delta_only(&self) -> bool {
+        true
+    }
 }
 
 fn params() -> Vec<ParamSpec> {

@@ -82,6 +82,12 @@ pub trait Brdf: Send + Sync + std::fmt::Debug {
         false
     }
 
+    /// True when every lobe is a delta: `eval` is zero for every pair of directions, so a
+    /// renderer's light samples can add nothing here and need not be drawn.
+    fn delta_only(&self) -> bool {
+        false
+    }
+
     /// True when light may cross the surface: `wi` and `wo` on opposite sides.
     fn transmits(&self) -> bool {
         false
@@ -147,6 +153,9 @@ macro_rules! forward_brdf {
             }
             fn has_delta(&self) -> bool {
                 (**self).has_delta()
+            }
+            fn delta_only(&self) -> bool {
+                (**self).delta_only()
             }
             fn transmits(&self) -> bool {
                 (**self).transmits()

@@ -32,6 +32,10 @@ impl Brdf for Null {
         true
     }
 
+    fn delta_only(&self) -> bool {
+        true
+    }
+
     fn transmits(&self) -> bool {
         true
     }

@@ -183,6 +183,7 @@ pub fn build_item(item: &str) -> Result<Box<dyn Brdf>, ParamError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{Rng, SeedableRng};
 
     #[test]
     fn every_model_builds_with_defaults_and_names_are_unique() {
@@ -200,6 +201,33 @@ mod tests {
                 assert_eq!(p.parse(&p.default.to_string()).as_ref(), Ok(&p.default), "{}.{}", m.name, p.name);
             }
         }
+    }
+
+    #[test]
+    fn a_model_of_delta_lobes_only_evaluates_to_zero_and_the_others_do_not() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+        let mut dir = || {
+            let v = glam::Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0));
+            v.normalize_or(glam::Vec3::Z)
+        };
+        let mut delta = Vec::new();
+        for m in models().iter().filter(|m| !m.requires_file()) {
+            let b = m.build_with(&[]).unwrap();
+            // Every pair of directions, on the same side and across, above and below.
+            let nonzero = (0..2000).filter(|_| !b.eval(dir(), dir()).is_black()).count();
+            if b.delta_only() {
+                assert!(b.has_delta(), "{} claims delta lobes only but has no delta lobe", m.name);
+                assert_eq!(nonzero, 0, "{} claims delta lobes only", m.name);
+                delta.push(m.name);
+            } else {
+                assert!(
+                    nonzero > 0,
+                    "{} evaluates to zero everywhere but does not say it has delta lobes only",
+                    m.name
+                );
+            }
+        }
+        assert!(delta.contains(&"mirror") && delta.contains(&"dielectric"), "{delta:?}");
     }
 
     #[test]

@@ -73,6 +73,10 @@ impl Brdf for ThinDielectric {
         true
     }
 
+    fn delta_only(&self) -> bool {
+        true
+    }
+
     fn transmits(&self) -> bool {
         true
     }

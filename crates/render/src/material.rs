@@ -169,6 +169,21 @@ impl Material {
         }
     }
 
+    /// True when the model at every hit has delta lobes only ([`Brdf::delta_only`]): known
+    /// without textures (a textured model counts as not, whatever it is built as).
+    pub fn delta_only(&self) -> bool {
+        match self {
+            Material::Fixed(b) => b.delta_only(),
+            Material::Textured(_) => false,
+            Material::TwoSided(front, back) => front.delta_only() && back.delta_only(),
+            // What passes through, or is mixed in, is delta or nothing.
+            Material::Mask { nested, .. } | Material::NormalMap { nested, .. } | Material::BumpMap { nested, .. } => {
+                nested.delta_only()
+            }
+            Material::Blend { first, second, .. } => first.delta_only() && second.delta_only(),
+        }
+    }
+
     /// Starts loading the texels that the model at `uv` is built from: a hint, which changes
     /// no result; asked for early, their cache misses overlap other work.
     pub fn prefetch(&self, uv: glam::Vec2) {

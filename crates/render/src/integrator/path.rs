@@ -180,13 +180,18 @@ pub(super) fn trace(
             break;
         }
         let VertexNumbers { light: ln, bc, bu } = numbers;
-        scene.prefetch_light_cell(&ln);
+        // A model of delta lobes only gives light samples nothing (ρ = 0 towards them): none
+        // are drawn there (their numbers were, so the stream does not change).
+        let lights = !scene.delta_only(si.shape);
+        if lights {
+            scene.prefetch_light_cell(&ln);
+        }
         // The light is sampled before the model is built, from the reference point the model
         // likely gives (checked below), while the texels it is built from start loading.
         let material = scene.material(si.shape);
         material.prefetch(si.uv);
         let guess = scene.transmits_guess(si.shape);
-        let guessed = scene.sample_lights(&reference(si, wo, guess), &ln, true);
+        let guessed = if lights { scene.sample_lights(&reference(si, wo, guess), &ln, true) } else { [None, None] };
         // The model continues the path from here: it sets the next ray, the step's throughput
         // factor and index ratio, and what the next vertex's MIS needs; false ends the path.
         let (mut weight, mut step_eta, mut pass_through) = (Rgb::ZERO, 1.0f32, false);
@@ -202,7 +207,7 @@ pub(super) fn trace(
             // Next-event estimation (the light samples drawn again, with the same numbers, where
             // the guess was wrong).
             let redrawn;
-            let samples = if guess == transmits {
+            let samples = if !lights || guess == transmits {
                 &guessed
             } else {
                 redrawn = scene.sample_lights(&r, &ln, true);

@@ -185,6 +185,7 @@ impl SceneBuilder {
         let light_bounds = light_choice::bounds(&lights, &shapes);
         let diffuse = diffuse::DiffuseMeshes::of(&shapes, &lights);
         let transmits = shapes.iter().map(|s| s.material.with(&SurfaceInteraction::PROBE, |b| b.transmits())).collect();
+        let delta_only = shapes.iter().map(|s| s.material.delta_only()).collect();
         Ok(Scene {
             camera,
             shapes,
@@ -199,6 +200,7 @@ impl SceneBuilder {
             refs,
             diffuse,
             transmits,
+            delta_only,
             simd: Simd::detect(),
         })
     }
@@ -241,6 +243,9 @@ pub struct Scene {
     /// Per shape, whether its model transmits, as built at [`SurfaceInteraction::PROBE`]
     /// (textured models may differ elsewhere).
     transmits: Vec<bool>,
+    /// Per shape, whether its model has delta lobes only at every hit
+    /// ([`Material::delta_only`]).
+    delta_only: Vec<bool>,
     /// The instruction set single-ray queries are compiled for.
     simd: Simd,
 }
@@ -426,6 +431,13 @@ impl Scene {
     #[inline]
     pub fn transmits_guess(&self, shape: usize) -> bool {
         self.transmits[shape]
+    }
+
+    /// Whether the model of shape `shape` has delta lobes only at every hit: light samples
+    /// can add nothing there.
+    #[inline]
+    pub fn delta_only(&self, shape: usize) -> bool {
+        self.delta_only[shape]
     }
 
     /// The area light on shape `shape`, with its light index.
