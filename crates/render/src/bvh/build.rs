@@ -1,7 +1,8 @@
 //! The binary tree the wide hierarchy is collapsed from: binned SAH (Wald, "On fast
 //! construction of SAH-based bounding volume hierarchies", 2007), the three axes binned in
-//! one pass over the primitives. A leaf costs one test per pack of up to sixteen primitives,
-//! since leaves are tested a pack at a time.
+//! one pass over the primitives. A leaf's triangles cost one test per pack of up to sixteen,
+//! since they are tested a pack at a time; other primitives (spheres, rectangles, disks) are
+//! tested one by one, and each costs a test of its own.
 
 use super::PACK;
 use crate::shape::Aabb;
@@ -21,6 +22,11 @@ const SAH_DEPTH: usize = 64;
 const TRAVERSAL_COST: f32 = 1.0;
 /// Cost of one test of a pack of primitives, relative to a node visit.
 const PACK_TEST_COST: f32 = 2.0;
+/// Cost of testing one primitive that is tested alone (not in a pack), relative to a node
+/// visit: a sphere's quadratic is about as much work as a node's eight boxes. Counted as a
+/// pack's lanes, twelve small spheres in a ring made one leaf as wide as the ring, which
+/// most rays under it entered and tested sphere by sphere.
+const ALONE_TEST_COST: f32 = 1.0;
 
 /// A binary node: its box, and either two children or a range of primitives.
 #[derive(Clone, Copy, Debug)]
@@ -62,18 +68,34 @@ const PARALLEL_MIN: usize = 1 << 15;
 /// The binary tree over `bounds` (non-empty) and the permutation of the primitives it
 /// sorts into leaf order. Large subtrees are built in parallel; the tree is the same
 /// whatever the thread count.
-pub(super) fn build_binary(bounds: &[Aabb]) -> (Vec<BinaryNode>, Vec<u32>) {
+/// `alone[k]` (or false past its end) marks primitive k as one tested alone, not in a pack.
+pub(super) fn build_binary(bounds: &[Aabb], alone: &[bool]) -> (Vec<BinaryNode>, Vec<u32>) {
     let boxes: Vec<Box3> = bounds.iter().map(|b| Box3 { min: b.min.into(), max: b.max.into() }).collect();
     let centroids: Vec<Vec3A> = boxes.iter().map(|b| 0.5 * (b.min + b.max)).collect();
     let mut order: Vec<u32> = (0..bounds.len() as u32).collect();
-    let nodes = Prims { boxes: &boxes, centroids: &centroids }.subtree(&mut order, 0, 0);
+    let nodes = Prims { boxes: &boxes, centroids: &centroids, alone }.subtree(&mut order, 0, 0);
     (nodes, order)
 }
 
-/// The SAH cost of testing `n` primitives in one leaf, in node visits.
+/// Primitives counted for a leaf's cost: all of them, and those tested alone.
+#[derive(Clone, Copy, Default)]
+struct Count {
+    all: usize,
+    alone: usize,
+}
+
+impl Count {
+    #[inline]
+    fn add(&mut self, o: Count) {
+        self.all += o.all;
+        self.alone += o.alone;
+    }
+}
+
+/// The SAH cost of testing the primitives `c` in one leaf, in node visits.
 #[inline]
-fn leaf_cost(n: usize) -> f32 {
-    n.div_ceil(PACK) as f32 * PACK_TEST_COST
+fn leaf_cost(c: Count) -> f32 {
+    (c.all - c.alone).div_ceil(PACK) as f32 * PACK_TEST_COST + c.alone as f32 * ALONE_TEST_COST
 }
 
 /// The primitives' boxes and centroids, by original index.
@@ -81,6 +103,7 @@ fn leaf_cost(n: usize) -> f32 {
 struct Prims<'a> {
     boxes: &'a [Box3],
     centroids: &'a [Vec3A],
+    alone: &'a [bool],
 }
 
 impl Prims<'_> {
@@ -136,12 +159,15 @@ impl Prims<'_> {
         // Axes of zero (or NaN) extent get scale 0: everything in bin 0, never a split.
         let scale = Vec3A::select(extent.cmpgt(Vec3A::ZERO), BINS as f32 / extent, Vec3A::ZERO);
         let mut bins = [[Box3::EMPTY; BINS]; 3];
-        let mut counts = [[0usize; BINS]; 3];
+        let mut counts = [[Count::default(); BINS]; 3];
+        let mut total = Count::default();
         for &p in order.iter() {
             let b = bins_of(self.centroids[p as usize], cb.min, scale);
             let pb = self.boxes[p as usize];
+            let one = Count { all: 1, alone: usize::from(self.alone.get(p as usize).copied().unwrap_or(false)) };
+            total.add(one);
             for axis in 0..3 {
-                counts[axis][b[axis]] += 1;
+                counts[axis][b[axis]].add(one);
                 bins[axis][b[axis]] = bins[axis][b[axis]].union(pb);
             }
         }
@@ -154,18 +180,18 @@ impl Prims<'_> {
             // Right-to-left sweep gives the cost of every right side.
             let mut right_cost = [0.0f32; BINS];
             let mut right_count = [0usize; BINS];
-            let (mut acc, mut cnt) = (Box3::EMPTY, 0);
+            let (mut acc, mut cnt) = (Box3::EMPTY, Count::default());
             for i in (1..BINS).rev() {
                 acc = acc.union(bins[i]);
-                cnt += counts[i];
+                cnt.add(counts[i]);
                 right_cost[i] = acc.half_area() * leaf_cost(cnt);
-                right_count[i] = cnt;
+                right_count[i] = cnt.all;
             }
-            let (mut acc, mut cnt) = (Box3::EMPTY, 0);
+            let (mut acc, mut cnt) = (Box3::EMPTY, Count::default());
             for i in 1..BINS {
                 acc = acc.union(bins[i - 1]);
-                cnt += counts[i - 1];
-                if cnt == 0 || right_count[i] == 0 {
+                cnt.add(counts[i - 1]);
+                if cnt.all == 0 || right_count[i] == 0 {
                     continue;
                 }
                 let cost = acc.half_area() * leaf_cost(cnt) + right_cost[i];
@@ -176,7 +202,7 @@ impl Prims<'_> {
         }
         let (cost, axis, split) = best?;
         let split_cost = TRAVERSAL_COST + cost / bb.half_area().max(f32::MIN_POSITIVE);
-        if n <= MAX_LEAF && split_cost >= leaf_cost(n) {
+        if n <= MAX_LEAF && split_cost >= leaf_cost(total) {
             return None;
         }
         let (lo, centroids) = (cb.min, self.centroids);
@@ -248,6 +274,23 @@ mod tests {
     use glam::Vec3;
 
     #[test]
+    fn primitives_tested_alone_make_smaller_leaves() {
+        // Twelve small boxes in a ring: packed, one leaf tests them all at once; tested one by
+        // one, a leaf as wide as the ring would test all twelve for every ray entering it.
+        let bounds: Vec<Aabb> = (0..12)
+            .map(|i| {
+                let a = i as f32 * std::f32::consts::TAU / 12.0;
+                let c = Vec3::new(3.0 * a.cos(), 2.5, 3.0 * a.sin());
+                Aabb { min: c - Vec3::splat(0.1), max: c + Vec3::splat(0.1) }
+            })
+            .collect();
+        let leaves = |alone: &[bool]| build_binary(&bounds, alone).0.iter().filter(|n| n.count > 0).count();
+        assert_eq!(leaves(&[]), 1);
+        assert_eq!(leaves(&[false; 12]), 1);
+        assert!(leaves(&[true; 12]) >= 4, "{} leaves", leaves(&[true; 12]));
+    }
+
+    #[test]
     fn the_parallel_build_makes_the_sequential_tree() {
         // Boxes of a jittered grid, more than twice the size built on one thread.
         let n = 3 * PARALLEL_MIN;
@@ -264,12 +307,12 @@ mod tests {
                 Aabb { min: c, max: c + Vec3::new(rnd(), rnd(), rnd()) }
             })
             .collect();
-        let (nodes, order) = build_binary(&bounds);
+        let (nodes, order) = build_binary(&bounds, &[]);
         let boxes: Vec<Box3> = bounds.iter().map(|b| Box3 { min: b.min.into(), max: b.max.into() }).collect();
         let centroids: Vec<Vec3A> = boxes.iter().map(|b| 0.5 * (b.min + b.max)).collect();
         let mut seq_order: Vec<u32> = (0..n as u32).collect();
         let mut b = Builder {
-            prims: Prims { boxes: &boxes, centroids: &centroids },
+            prims: Prims { boxes: &boxes, centroids: &centroids, alone: &[] },
             order: &mut seq_order,
             first: 0,
             nodes: Vec::new(),

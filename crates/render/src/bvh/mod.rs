@@ -85,11 +85,20 @@ impl Bvh {
     /// # Panics
     /// With 2²⁸ primitives or more (a pack holds at least one).
     pub fn build(bounds: &[Aabb]) -> Bvh {
+        Bvh::build_with(bounds, &[])
+    }
+
+    /// [`build`](Self::build), where `alone[k]` (or false past its end) says that primitive k
+    /// is tested on its own rather than with its pack, so that its leaf costs more with it.
+    ///
+    /// # Panics
+    /// With 2²⁸ primitives or more.
+    pub fn build_with(bounds: &[Aabb], alone: &[bool]) -> Bvh {
         if bounds.is_empty() {
             return Bvh::default();
         }
         assert!(bounds.len() < MAX_PACKS, "{} primitives are more than a BVH holds", bounds.len());
-        let (binary, order) = build_binary(bounds);
+        let (binary, order) = build_binary(bounds, alone);
         let mut c = Collapse { binary: &binary, nodes: Vec::new(), pack_start: Vec::new(), depth: 0 };
         c.nodes.reserve(binary.len() / 3);
         c.pack_start.reserve(bounds.len() / 2);

@@ -141,13 +141,16 @@ impl SceneBuilder {
         }
         let mut refs = Vec::new();
         let mut bounds = Vec::new();
+        let mut alone = Vec::new();
         for (si, s) in shapes.iter().enumerate() {
             for k in 0..s.geometry.primitive_count() {
                 refs.push((si as u32, k as u32));
                 bounds.push(s.geometry.primitive_bounds(k));
+                // Triangles are tested a pack at a time, the other primitives one by one.
+                alone.push(!matches!(s.geometry, Geometry::Mesh(_)));
             }
         }
-        let bvh = Bvh::build(&bounds);
+        let bvh = Bvh::build_with(&bounds, &alone);
         let refs: Vec<(u32, u32)> = bvh.order.iter().map(|&i| refs[i as usize]).collect();
         let mut tri16 = vec![Tri16::default(); bvh.pack_count()];
         let mut others = vec![0u32; bvh.pack_count()];
