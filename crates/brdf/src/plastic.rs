@@ -75,8 +75,8 @@ fn smith_g1(beckmann: bool, alpha: f32, w: Vec3, m: Vec3) -> f32 {
 /// The coat tables of (distribution, α, η), computed once per process: a textured material
 /// builds its model at every hit, and the tables depend only on parameters that cannot vary.
 /// Each thread keeps the tables it used last, so a hit takes no lock.
-fn cached_coat_tables(dist: &Distribution, beckmann: bool, alpha: f32, eta: f32) -> ([f32; TABLE_SIZE], f32) {
-    type Tables = ([f32; TABLE_SIZE], f32);
+fn cached_coat_tables(dist: &Distribution, beckmann: bool, alpha: f32, eta: f32) -> CoatTables {
+    type Tables = CoatTables;
     type Key = (bool, u32, u32);
     /// More distinct coats than this are computed without being kept.
     const KEPT: usize = 256;
@@ -102,8 +102,17 @@ fn cached_coat_tables(dist: &Distribution, beckmann: bool, alpha: f32, eta: f32)
     tables
 }
 
+/// What a rough coat of given (distribution, α, η) needs, whatever the base under it.
+#[derive(Clone, Copy, Debug)]
+struct CoatTables {
+    /// t(μ_k), the coat's transmittance at cosine μ_k = k/(TABLE_SIZE − 1).
+    t: [f32; TABLE_SIZE],
+    /// F_int, the cosine-weighted internal reflectance.
+    f_int: f32,
+}
+
 /// The rough coat's tables: t(μ_k) and F_int, integrated over visible normals.
-fn coat_tables(dist: &Distribution, beckmann: bool, alpha: f32, eta: f32) -> ([f32; TABLE_SIZE], f32) {
+fn coat_tables(dist: &Distribution, beckmann: bool, alpha: f32, eta: f32) -> CoatTables {
     // The transmittance integrand is smooth; the internal reflectance jumps at the critical
     // angle, so it gets a finer rule.
     let (coarse, fine) = (radiometry::integrate::gauss_legendre01(32), radiometry::integrate::gauss_legendre01(64));
@@ -145,7 +154,7 @@ fn coat_tables(dist: &Distribution, beckmann: bool, alpha: f32, eta: f32) -> ([f
         }
         r_mean += refl * mu as f64 / TABLE_SIZE as f64;
     }
-    (t, (2.0 * r_mean) as f32)
+    CoatTables { t, f_int: (2.0 * r_mean) as f32 }
 }
 
 /// What a coated model claims: always reciprocal and isotropic; energy conserving while the coat
@@ -227,7 +236,6 @@ pub struct RoughPlastic {
     transmittance: [f32; TABLE_SIZE],
     internal_reflectance: f32,
     weight: f32,
-    energy_bound: f32,
 }
 
 impl RoughPlastic {
@@ -238,17 +246,9 @@ impl RoughPlastic {
         let beckmann = distribution == "beckmann";
         // Mitsuba's own floor on α.
         let alpha = alpha.max(1e-4);
-        let (transmittance, internal_reflectance) = cached_coat_tables(&dist, beckmann, alpha, eta);
+        let CoatTables { t: transmittance, f_int: internal_reflectance } =
+            cached_coat_tables(&dist, beckmann, alpha, eta);
         let base = base_factor(diffuse, internal_reflectance, nonlinear, eta);
-        // 2∫t(μ)μ dμ of the interpolated table: exact Simpson on each linear piece (t μ is quadratic).
-        let n = (TABLE_SIZE - 1) as f64;
-        let mut t_bar = 0.0f64;
-        for k in 0..TABLE_SIZE - 1 {
-            let (m0, m1) = (k as f64 / n, (k + 1) as f64 / n);
-            let f = |mu: f64| lerp_table(&transmittance, mu as f32) as f64 * mu;
-            t_bar += (m1 - m0) / 6.0 * (f(m0) + 4.0 * f(0.5 * (m0 + m1)) + f(m1));
-        }
-        let energy_bound = (base.max_channel() as f64 * std::f64::consts::PI * 2.0 * t_bar) as f32;
         Some(RoughPlastic {
             dist,
             beckmann,
@@ -259,8 +259,22 @@ impl RoughPlastic {
             transmittance,
             internal_reflectance,
             weight: sampling_weight(specular, diffuse),
-            energy_bound,
         })
+    }
+
+    /// The base's albedo bound ρ̂ π 2∫t(μ)μ dμ, the integral of the interpolated table by
+    /// Simpson's rule on each linear piece (t μ is quadratic there). Computed where a check
+    /// asks, not at each build: a textured base rebuilds the model at every hit, and this
+    /// integral had been 56 % of such a render.
+    fn energy_bound(&self) -> f32 {
+        let n = (TABLE_SIZE - 1) as f64;
+        let mut t_bar = 0.0f64;
+        for k in 0..TABLE_SIZE - 1 {
+            let (m0, m1) = (k as f64 / n, (k + 1) as f64 / n);
+            let f = |mu: f64| lerp_table(&self.transmittance, mu as f32) as f64 * mu;
+            t_bar += (m1 - m0) / 6.0 * (f(m0) + 4.0 * f(0.5 * (m0 + m1)) + f(m1));
+        }
+        (self.base.max_channel() as f64 * std::f64::consts::PI * 2.0 * t_bar) as f32
     }
 
     /// The coat's transmittance t(μ) (interpolated table).
@@ -370,7 +384,7 @@ impl Brdf for RoughPlastic {
     }
 
     fn claims(&self) -> Claims {
-        coat_claims(self.specular, self.energy_bound)
+        coat_claims(self.specular, self.energy_bound())
     }
 }
 
@@ -381,7 +395,6 @@ pub struct Plastic {
     specular: Rgb,
     base: Rgb,
     weight: f32,
-    energy_bound: f32,
 }
 
 impl Plastic {
@@ -389,18 +402,23 @@ impl Plastic {
     pub fn new(eta: f32, diffuse: Rgb, specular: Rgb, nonlinear: bool) -> Self {
         let f_dr = fresnel_diffuse_reflectance(1.0 / eta);
         let base = base_factor(diffuse, f_dr, nonlinear, eta);
-        // 2∫(1 − F(μ))μ dμ by the midpoint rule (F is smooth; 4096 steps are far below f32).
+        Plastic { eta, specular, base, weight: sampling_weight(specular, diffuse) }
+    }
+
+    /// The base's albedo bound ρ̂ π 2∫(1 − F(μ))μ dμ, by the midpoint rule (F is smooth; 4096
+    /// steps are far below f32). Computed where a check asks, not at each build, which a
+    /// textured base makes at every hit.
+    fn energy_bound(&self) -> f32 {
         let n = 4096;
         let t_bar: f64 = (0..n)
             .map(|i| {
                 let mu = (i as f64 + 0.5) / n as f64;
-                (1.0 - fresnel::dielectric(mu as f32, eta) as f64) * mu
+                (1.0 - fresnel::dielectric(mu as f32, self.eta) as f64) * mu
             })
             .sum::<f64>()
             * 2.0
             / n as f64;
-        let energy_bound = (base.max_channel() as f64 * std::f64::consts::PI * t_bar) as f32;
-        Plastic { eta, specular, base, weight: sampling_weight(specular, diffuse), energy_bound }
+        (self.base.max_channel() as f64 * std::f64::consts::PI * t_bar) as f32
     }
 
     /// Probability of drawing the delta lobe for viewer cosine `cos_o`.
@@ -443,7 +461,7 @@ impl Brdf for Plastic {
     }
 
     fn claims(&self) -> Claims {
-        coat_claims(self.specular, self.energy_bound)
+        coat_claims(self.specular, self.energy_bound())
     }
 
     fn has_delta(&self) -> bool {
