@@ -241,10 +241,11 @@ pub fn encode_rgbe(image: &Image) -> Vec<u8> {
             out.extend_from_slice(&[0, 0, 0, 0]);
             continue;
         }
-        // m = f·2^e with f ∈ [0.5, 1): the mantissas are c/2^e·256.
+        // m = f·2^e with f ∈ [0.5, 1): the mantissas are c/2^e·256, rounded to the nearest,
+        // since a reader multiplies them back without an offset.
         let e = m.log2().floor() as i32 + 1;
         let scale = 256.0 / (e as f32).exp2();
-        let q = |c: f32| (c.max(0.0) * scale).min(255.0) as u8;
+        let q = |c: f32| (c.max(0.0) * scale + 0.5).min(255.0) as u8;
         out.extend_from_slice(&[q(p.0[0]), q(p.0[1]), q(p.0[2]), (e + 128).clamp(0, 255) as u8]);
     }
     out

