@@ -188,7 +188,12 @@ impl EnvMap {
 
     /// Radiance arriving from direction `d` (unit, pointing away from the scene).
     pub fn eval(&self, d: Vec3) -> Rgb {
-        let l = self.lookup(d);
+        self.eval_at(&self.lookup(d))
+    }
+
+    /// [`eval`](Self::eval) where the direction's [`lookup`](Self::lookup) is `l`.
+    #[inline]
+    pub fn eval_at(&self, l: &EnvLookup) -> Rgb {
         self.radiance(l.i, l.j, l.f)
     }
 

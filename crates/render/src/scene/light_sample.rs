@@ -115,11 +115,13 @@ impl Scene {
         let env = self.environment?;
         let (le, pdf) = match &self.lights[env] {
             Light::Constant(c) => (c.radiance, from.map_or(0.0, |r| c.pdf(r, d))),
-            Light::EnvMap(e) if from.is_some() => match looked {
-                Some(l) => e.eval_pdf_at(l, env_density(mis)),
-                None => e.eval_pdf_by(d, env_density(mis)),
-            },
-            Light::EnvMap(e) => (e.eval(d), 0.0),
+            Light::EnvMap(e) => {
+                let l = looked.copied().unwrap_or_else(|| e.lookup(d));
+                match from {
+                    Some(_) => e.eval_pdf_at(&l, env_density(mis)),
+                    None => (e.eval_at(&l), 0.0),
+                }
+            }
             _ => return None,
         };
         Some((le, from.map_or(0.0, |r| pdf * self.light_choice_pdf(env, r))))
