@@ -76,12 +76,11 @@ fn smith_g1(beckmann: bool, alpha: f32, w: Vec3, m: Vec3) -> f32 {
 /// builds its model at every hit, and the tables depend only on parameters that cannot vary.
 /// Each thread keeps the tables it used last, so a hit takes no lock.
 fn cached_coat_tables(dist: &Distribution, beckmann: bool, alpha: f32, eta: f32) -> CoatTables {
-    type Tables = CoatTables;
     type Key = (bool, u32, u32);
     /// More distinct coats than this are computed without being kept.
     const KEPT: usize = 256;
-    static ALL: std::sync::RwLock<Vec<(Key, Tables)>> = std::sync::RwLock::new(Vec::new());
-    thread_local!(static LAST: std::cell::Cell<Option<(Key, Tables)>> = const { std::cell::Cell::new(None) });
+    static ALL: std::sync::RwLock<Vec<(Key, CoatTables)>> = std::sync::RwLock::new(Vec::new());
+    thread_local!(static LAST: std::cell::Cell<Option<(Key, CoatTables)>> = const { std::cell::Cell::new(None) });
     let key = (beckmann, alpha.to_bits(), eta.to_bits());
     if let Some((k, t)) = LAST.get() {
         if k == key {
