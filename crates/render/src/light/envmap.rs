@@ -329,7 +329,7 @@ impl EnvMap {
     /// [`eval_pdf_by`](Self::eval_pdf_by) where the direction's [`lookup`](Self::lookup) is `l`.
     #[inline]
     pub fn eval_pdf_at(&self, l: &EnvLookup, density: EnvDensity) -> (Rgb, f32) {
-        (self.radiance(l.i, l.j, l.f), self.pdf_in_cell(l.m, l.i, l.j, l.f, density))
+        (self.radiance(l.i, l.j, l.f), self.pdf_at(l, density))
     }
 
     /// The density of `sample` for direction `d`.
@@ -339,17 +339,17 @@ impl EnvMap {
 
     /// The density of `sample_by(…, density)` for direction `d`.
     pub fn pdf_by(&self, d: Vec3, density: EnvDensity) -> f32 {
-        let l = self.lookup(d);
-        self.pdf_in_cell(l.m, l.i, l.j, l.f, density)
+        self.pdf_at(&self.lookup(d), density)
     }
 
-    /// The density `density` for map direction `m`, at place `f` of its cell (i, j).
+    /// The density `density` for the direction whose [`lookup`](Self::lookup) is `l`.
     #[inline]
-    fn pdf_in_cell(&self, m: Vec3, i: usize, j: usize, f: Vec2, density: EnvDensity) -> f32 {
+    fn pdf_at(&self, l: &EnvLookup, density: EnvDensity) -> f32 {
         let Some(warp) = self.warp(density) else {
             return uniform_sphere_pdf();
         };
-        let pdf = self.density(warp, i, j, f, (m.x * m.x + m.z * m.z).sqrt());
+        let m = l.m;
+        let pdf = self.density(warp, l.i, l.j, l.f, (m.x * m.x + m.z * m.z).sqrt());
         if pdf.is_finite() {
             pdf
         } else {

@@ -144,18 +144,19 @@ impl Sphere {
     /// A point on the sphere for reference point `r`: from outside, uniform over the
     /// subtended cone (the visible cap); from inside, uniform over the area.
     pub fn sample(&self, r: Vec3, u: Vec2, with_uv: bool) -> Option<ShapeSample> {
-        // The point and normal as `surface` finds them; its uv (two arctangents) only when asked.
-        let at = |p: Vec3, pdf: f32| {
+        // The point and normal as `surface` finds them, the density from them; the uv (two
+        // arctangents) only when asked.
+        let at = |p: Vec3, pdf: &dyn Fn(Vec3, Vec3) -> Option<f32>| {
             let (q, n, _) = self.point(p);
-            ShapeSample { p: q, n, ns: n, uv: if with_uv { self.surface(p).uv } else { Vec2::ZERO }, pdf }
+            let uv = if with_uv { self.surface(p).uv } else { Vec2::ZERO };
+            Some(ShapeSample { p: q, n, ns: n, uv, pdf: pdf(q, n)? })
         };
         let dc = self.center - r;
         let dist2 = dc.length_squared();
         let r2 = self.radius * self.radius;
         if dist2 <= r2 * (1.0 + 1e-4) {
             let p = self.center + uniform_sphere(u) * self.radius;
-            let (q, n, _) = self.point(p);
-            return Some(at(p, area_to_solid_angle(1.0 / self.area(), r, q, n)?));
+            return at(p, &|q, n| area_to_solid_angle(1.0 / self.area(), r, q, n));
         }
         let dist = dist2.sqrt();
         // cos θmax from sin²θmax = r²/d², computed without cancellation near 1.
@@ -166,7 +167,7 @@ impl Sphere {
         let d = Frame::from_normal(w).to_world(local);
         // Nearest intersection; at the rim, rounding may miss: take the closest approach.
         let t = self.intersect(r, d, f32::INFINITY).unwrap_or_else(|| dc.dot(d));
-        Some(at(r + d * t, cone_pdf(sin2, cos_max)))
+        at(r + d * t, &|_, _| Some(cone_pdf(sin2, cos_max)))
     }
 
     /// Solid-angle density of `sample` from `r` producing the point `p`.
