@@ -26,7 +26,7 @@ const FRAC_PI_2_LO: f32 = -4.371_139e-8;
 const PI_LO: f32 = -8.742_278e-8;
 
 /// atan2(y, x) in [−π, π], within 2e-7 rad + ½ ulp of the exact angle; ±0 for (±0, x ≥ 0).
-#[inline]
+#[inline(always)]
 pub fn atan2(y: f32, x: f32) -> f32 {
     let (ax, ay) = (x.abs(), y.abs());
     // Selects rather than branches: the octant of a ray direction is not predictable.

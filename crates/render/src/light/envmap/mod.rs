@@ -35,6 +35,8 @@ use radiometry::warp2d::{bilerp, Bilinear2D};
 use radiometry::Rgb;
 use std::f32::consts::PI;
 
+mod packet;
+
 /// An environment map light.
 #[derive(Clone, Debug)]
 pub struct EnvMap {
@@ -74,7 +76,7 @@ pub enum EnvDensity {
 }
 
 /// The (u, v) of Mitsuba's lookup for a direction (unit, or any length).
-#[inline]
+#[inline(always)]
 pub fn direction_to_uv(d: Vec3) -> Vec2 {
     let u = crate::atan::atan2(d.x, -d.z) * (0.5 / PI);
     let v = crate::atan::atan2((d.x * d.x + d.z * d.z).sqrt(), d.y) * (1.0 / PI);
@@ -95,6 +97,10 @@ impl EnvMap {
         let (w, h) = (image.width as usize, image.height as usize);
         if w < 1 || h < 2 {
             return Err(Error::Invalid(format!("environment map of {w}x{h} texels: need at least 1x2")));
+        }
+        // The lookup indexes texels with i32 (see `cell`).
+        if w.max(h) > i32::MAX as usize {
+            return Err(Error::Invalid(format!("environment map of {w}x{h} texels: at most {} per side", i32::MAX)));
         }
         if let Some(i) = image.pixels.iter().position(|p| !p.is_finite()) {
             return Err(Error::Invalid(format!("environment map texel ({}, {}) is not finite", i % w, i / w)));
@@ -148,7 +154,7 @@ impl EnvMap {
     }
 
     /// A world direction in the map's frame.
-    #[inline]
+    #[inline(always)]
     fn to_map(&self, d: Vec3) -> Vec3 {
         match &self.to_world {
             Some(r) => r.transpose() * d,
@@ -164,20 +170,22 @@ impl EnvMap {
 
     /// The grid cell (its lower texel column and row) holding lookup coordinates `uv`, and
     /// the place within it: x = uW − ½ wrapped into [0, W), y = v(H − 1).
-    #[inline]
+    #[inline(always)]
     fn cell(&self, uv: Vec2) -> (usize, usize, Vec2) {
         let mut x = uv.x * self.width as f32 - 0.5;
         if x < 0.0 {
             x += self.width as f32;
         }
         let y = (uv.y * (self.height - 1) as f32).max(0.0);
-        // Truncation is the floor here (x, y ≥ 0), and cheaper than floor().
-        let (i, j) = ((x as usize).min(self.width - 1), (y as usize).min(self.height - 2));
-        (i, j, Vec2::new((x - i as f32).min(1.0), (y - j as f32).min(1.0)))
+        // Truncation is the floor here (x, y ≥ 0), and cheaper than floor(); to i32, which
+        // vector code converts to in one instruction (x ≤ W and y ≤ H − 1 fit, and NaN gives 0
+        // either way).
+        let (i, j) = ((x as i32).min(self.width as i32 - 1), (y as i32).min(self.height as i32 - 2));
+        (i as usize, j as usize, Vec2::new((x - i as f32).min(1.0), (y - j as f32).min(1.0)))
     }
 
     /// The bilinear radiance at place `f` of cell (i, j).
-    #[inline]
+    #[inline(always)]
     fn radiance(&self, i: usize, j: usize, f: Vec2) -> Rgb {
         let k = j * (self.width + 1) + i;
         let t = &self.texels;
