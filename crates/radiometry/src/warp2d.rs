@@ -135,15 +135,30 @@ impl Bilinear2D {
     /// deciding the cell's alias coin); its density is `density(i, j, frac)`.
     #[inline]
     pub fn sample(&self, uc: f32, u: Vec2) -> CellSample {
-        let (k, ry) = self.cell.sample(uc, u.y);
-        let cx = self.nx - 1;
-        let (i, j) = (k % cx, k / cx);
-        let [f00, f10, f01, f11] = self.corners(i, j);
-        let fy = sample_linear(f00 + f10, f01 + f11, ry);
-        let (c0, c1) = (lerp(f00, f01, fy), lerp(f10, f11, fy));
-        let fx = sample_linear(c0, c1, u.x);
-        CellSample { i, j, frac: Vec2::new(fx, fy), pdf: self.cell_scale(i, j) * lerp(c0, c1, fx) }
+        let (i, j, ry) = self.choose_cell(uc, u.y);
+        let (frac, pdf) = place_in_cell(self.corners(i, j), self.cell_scale(i, j), ry, u.x);
+        CellSample { i, j, frac, pdf }
     }
+
+    /// [`sample`](Self::sample)'s first half: the cell (i, j) for `uc` and `u_y`, with `u_y`
+    /// rescaled to a fresh uniform number for [`place_in_cell`].
+    #[inline]
+    pub fn choose_cell(&self, uc: f32, u_y: f32) -> (usize, usize, f32) {
+        let (k, ry) = self.cell.sample(uc, u_y);
+        let cx = self.nx - 1;
+        (k % cx, k / cx, ry)
+    }
+}
+
+/// [`Bilinear2D::sample`]'s second half, arithmetic only (so that a loop over many samples
+/// becomes vector code): the place (fx, fy) in a cell of corners f00, f10, f01, f11 and cell
+/// scale `scale`, for the rescaled `ry` and `u_x`, and its density.
+#[inline(always)]
+pub fn place_in_cell([f00, f10, f01, f11]: [f32; 4], scale: f32, ry: f32, u_x: f32) -> (Vec2, f32) {
+    let fy = sample_linear(f00 + f10, f01 + f11, ry);
+    let (c0, c1) = (lerp(f00, f01, fy), lerp(f10, f11, fy));
+    let fx = sample_linear(c0, c1, u_x);
+    (Vec2::new(fx, fy), scale * lerp(c0, c1, fx))
 }
 
 /// The corners f00, f10, f01, f11 of cell (i, j) in a row-major grid `nx` wide.
@@ -154,7 +169,7 @@ fn corners_of(values: &[f32], nx: usize, i: usize, j: usize) -> [f32; 4] {
 }
 
 /// (1 − t)·a + t·b: for a, b ≥ 0 both terms are, so there is no cancellation near a zero.
-#[inline]
+#[inline(always)]
 fn lerp(a: f32, b: f32, t: f32) -> f32 {
     a * (1.0 - t) + b * t
 }
@@ -169,7 +184,7 @@ pub fn bilerp([f00, f10, f01, f11]: [f32; 4], f: Vec2) -> f32 {
 /// squares must not overflow): the root of the CDF (a·t + (b − a)·t²/2) / ((a + b)/2) = u
 /// written as u(a + b)/(a + √((1 − u)a² + u·b²)), which has no cancellation. When a and b
 /// are both 0 (or their squares underflow), t = u: uniform, the limit of a = b.
-#[inline]
+#[inline(always)]
 pub fn sample_linear(a: f32, b: f32, u: f32) -> f32 {
     let den = a + ((1.0 - u) * a * a + u * b * b).sqrt();
     let t = if den > 0.0 { u * (a + b) / den } else { u };

@@ -1,19 +1,23 @@
 //! Sixteen camera samples at once. Their camera rays, which start at one pixel or its
-//! neighbours and so are coherent, find their first surfaces as one packet; each path is then
-//! traced on its own, and its shadow tests wait in a queue that answers them sixteen at a time
-//! as a packet. The rays that escape at once end there, and their environment lookups are made
-//! as one packet too (`EnvMap::eval_packet`: its angles in vector code; under an open sky, as
-//! in the envmap bench scene, these rays took 40 % of the render one by one). A path never depends on its shadow tests, only its sum does, and each lane adds
-//! its visible contributions in the order it made them: every lane gets exactly the estimate
-//! the one-ray-at-a-time integrator gives it. [`Integrator::li_batch`] hands the camera samples
-//! of a batch to this sixteen at a time, or, for scenes of Lambertian meshes under one area
-//! light, to the sixteen-lane path tracer of [`super::wide`].
+//! neighbours and so are coherent, find their first surfaces as one packet. The rays that
+//! escape at once end there, their environment lookups made as one packet (the angles in
+//! vector code: under an open sky, as in the envmap bench scene, these rays took 40 % of the
+//! render one by one). The paths of the others go on vertex by vertex together (see
+//! [`trace_together`]), each shading on its own; their shadow tests wait in a queue that
+//! answers them sixteen at a time as a packet. A path never depends on its shadow tests, only
+//! its sum does, and each lane adds its visible contributions in the order it made them:
+//! every lane gets exactly the estimate the one-ray-at-a-time integrator gives it.
+//! [`Integrator::li_batch`] hands the camera samples of a batch to this sixteen at a time, or,
+//! for scenes of Lambertian meshes under one area light, to the sixteen-lane path tracer of
+//! [`super::wide`].
 
+use super::path::PathState;
 use super::{direct, finite, path, phong, Integrator};
 use crate::ray::Ray;
 use crate::sampler::Sampler;
-use crate::scene::{Scene, ShadowTest};
+use crate::scene::{PacketHits, Scene, ShadowTest, SurfaceInteraction};
 use crate::simd::{for_bits, LANES};
+use glam::Vec2;
 use radiometry::Rgb;
 
 /// Shadow tests waiting to be answered as a packet, with what each adds to its lane if visible.
@@ -121,33 +125,106 @@ impl Integrator {
         if shown && active & !traced != 0 {
             unlit = scene.environment_packet(rays, active & !traced, scene.simd());
         }
-        // A path's first numbers, drawn only for the rays that go on (all before the first
-        // path is traced, so that their light samples' table reads load meanwhile).
-        let mut first = [path::VertexNumbers::ZERO; LANES];
-        if let Integrator::Path { .. } = *self {
-            for_bits(traced, |i| first[i] = path::VertexNumbers::draw(&mut samplers[i], scene));
-        }
         let mut queue = ShadowQueue::new(scene);
-        for_bits(traced, |i| {
-            let (ray, sampler) = (rays[i], &mut samplers[i]);
-            let mut shadow = |test: ShadowTest, c: Rgb| queue.push(i, test, c);
-            unlit[i] = match *self {
-                Integrator::Path { max_depth, rr_depth, hide_emitters } => {
-                    let hit = hits[i].map(|(k, t)| scene.interaction(&ray, k, t));
-                    let hit = path::past_hidden(scene, ray, hit, hide_emitters);
-                    path::trace(scene, ray, hit, first[i], sampler, max_depth, rr_depth, hide_emitters, &mut shadow)
-                }
-                Integrator::Direct { samples, hide_emitters } => {
-                    let hit = hits[i].map(|(k, t)| scene.interaction(&ray, k, t));
-                    let first = path::past_hidden(scene, ray, hit, hide_emitters);
-                    direct::estimate(scene, ray, first, sampler, samples, hide_emitters, &mut shadow)
-                }
-                Integrator::Phong { .. } => unreachable!("answered above"),
-            };
-        });
+        match *self {
+            Integrator::Path { max_depth, rr_depth, hide_emitters } => {
+                let depths = (max_depth, rr_depth, hide_emitters);
+                let found = trace_together(scene, rays, &hits, traced, samplers, depths, &mut queue);
+                for_bits(traced, |i| unlit[i] = found[i]);
+            }
+            Integrator::Direct { samples, hide_emitters } => for_bits(traced, |i| {
+                let mut shadow = |test: ShadowTest, c: Rgb| queue.push(i, test, c);
+                let hit = hits[i].map(|(k, t)| scene.interaction(&rays[i], k, t));
+                let first = path::past_hidden(scene, rays[i], hit, hide_emitters);
+                unlit[i] =
+                    direct::estimate(scene, rays[i], first, &mut samplers[i], samples, hide_emitters, &mut shadow);
+            }),
+            Integrator::Phong { .. } => unreachable!("answered above"),
+        }
         queue.flush();
         for_bits(active, |i| out[i] = finite(unlit[i] + queue.lit[i]));
         out
+    }
+}
+
+/// The paths from the camera rays `rays` of lanes `lanes`, whose first hits are `hits`, each
+/// drawing from its sampler; `depths` is (max_depth ≥ 1, rr_depth, hide_emitters). Returns
+/// what each finds without shadow rays, its shadow tests waiting in `queue`.
+///
+/// The paths go vertex by vertex together: each takes its step on its own, then the
+/// directions of the next rays fall on the environment map as one packet, and the map's light
+/// samples of the next vertices, which depend on their numbers alone, are drawn as one packet
+/// once the table reads that the prefetches started have had time (during the ray queries).
+/// A path's first numbers are drawn only for rays that hit something.
+fn trace_together(
+    scene: &Scene,
+    rays: &[Ray; LANES],
+    hits: &PacketHits,
+    lanes: u32,
+    samplers: &mut [Sampler; LANES],
+    (max_depth, rr_depth, hide_emitters): (u32, u32, bool),
+    queue: &mut ShadowQueue,
+) -> [Rgb; LANES] {
+    let mut paths = [PathState::IDLE; LANES];
+    let mut at: [Option<SurfaceInteraction>; LANES] = [None; LANES];
+    for_bits(lanes, |i| {
+        paths[i] = PathState::new(rays[i], path::VertexNumbers::draw(&mut samplers[i], scene));
+        scene.prefetch_light_cell(paths[i].light_numbers());
+        let hit = hits[i].map(|(k, t)| scene.interaction(&rays[i], k, t));
+        at[i] = path::past_hidden(scene, rays[i], hit, hide_emitters);
+    });
+    let map = scene.has_environment_map();
+    if map {
+        presample_environment(scene, &mut paths, &at, lanes);
+    }
+    let mut alive = lanes;
+    while alive != 0 {
+        let mut next = 0;
+        for_bits(alive, |i| {
+            let mut shadow = |test: ShadowTest, c: Rgb| queue.push(i, test, c);
+            let on =
+                paths[i].step(scene, at[i].as_ref(), &mut samplers[i], max_depth, rr_depth, hide_emitters, &mut shadow);
+            next |= (on as u32) << i;
+        });
+        alive = next;
+        if !map {
+            for_bits(alive, |i| at[i] = scene.intersect(&paths[i].ray));
+            continue;
+        }
+        let looked = scene.prefetch_environment_packet(&paths.each_ref().map(|p| p.ray.d), alive, scene.simd());
+        for_bits(alive, |i| scene.prefetch_light_cell(paths[i].light_numbers()));
+        for_bits(alive, |i| {
+            paths[i].looked = looked[i];
+            at[i] = scene.intersect(&paths[i].ray);
+        });
+        presample_environment(scene, &mut paths, &at, alive);
+    }
+    paths.map(|p| p.result)
+}
+
+/// Draws the environment map's light samples of the next vertices `at` of `paths` in lanes
+/// `lanes` as one packet ([`Scene::presample_environment_packet`]), where light samples will
+/// be drawn: not where the path escapes or meets delta lobes only.
+fn presample_environment(
+    scene: &Scene,
+    paths: &mut [PathState; LANES],
+    at: &[Option<SurfaceInteraction>; LANES],
+    lanes: u32,
+) {
+    let (mut uc, mut u, mut drawn) = ([0.0; LANES], [Vec2::ZERO; LANES], 0);
+    for_bits(lanes, |i| {
+        let Some(si) = &at[i] else { return };
+        if scene.delta_only(si.shape) {
+            return;
+        }
+        if let Some(n) = scene.environment_numbers(paths[i].light_numbers()) {
+            (uc[i], u[i]) = n;
+            drawn |= 1 << i;
+        }
+    });
+    if drawn != 0 {
+        let env = scene.presample_environment_packet(&uc, &u, drawn, scene.simd());
+        for_bits(drawn, |i| paths[i].light_numbers().env = env[i]);
     }
 }
 
@@ -165,9 +242,9 @@ mod tests {
     use crate::simd::Simd;
     use glam::{Vec2, Vec3};
 
-    /// A rough metal sphere and a glass one under a turned, patchy environment map and a point
-    /// light, seen so that about half the camera rays escape.
-    fn open_sky() -> Scene {
+    /// A rough metal sphere and a glass one under a turned, patchy environment map (and a
+    /// point light with `point`), seen so that about half the camera rays escape.
+    fn open_sky(point: bool) -> Scene {
         let cam =
             Camera::new(look_at(Vec3::new(0.0, 0.3, 3.0), Vec3::ZERO, Vec3::Y).unwrap(), 40.0, FovAxis::X, 20, 14);
         let mut b = SceneBuilder::new(cam);
@@ -181,44 +258,49 @@ mod tests {
         }
         let turn = glam::Mat3::from_rotation_y(1.1) * glam::Mat3::from_rotation_z(0.2);
         b.light(Light::EnvMap(Box::new(EnvMap::new(&img, 2.0).unwrap().with_rotation(turn).unwrap())));
-        b.light(Light::Point(PointLight { position: Vec3::new(1.0, 2.0, 1.0), intensity: Rgb::splat(3.0) }));
+        if point {
+            b.light(Light::Point(PointLight { position: Vec3::new(1.0, 2.0, 1.0), intensity: Rgb::splat(3.0) }));
+        }
         b.build().unwrap()
     }
 
     #[test]
     fn packets_give_each_camera_ray_its_one_ray_estimate_bit_for_bit() {
-        let mut scene = open_sky();
-        let (w, h) = (scene.camera.width as u64, scene.camera.height as u64);
-        let (mut rays, mut samplers) = (Vec::new(), Vec::new());
-        for pixel in 0..w * h {
-            let mut sampler = PixelKey::new(4, pixel).sampler(pixel % 5);
-            let pos = Vec2::new((pixel % w) as f32, (pixel / w) as f32) + sampler.next_2d();
-            rays.push(scene.camera.ray(pos, Vec2::splat(0.5)));
-            samplers.push(sampler);
-        }
-        let escaping = rays.iter().filter(|r| scene.intersect(r).is_none()).count();
-        assert!(escaping > rays.len() / 4 && escaping < rays.len() * 3 / 4, "{escaping} of {} escape", rays.len());
-        let integrators = [
-            Integrator::path(8, 3),
-            Integrator::path(1, 5),
-            Integrator::path(0, 5),
-            Integrator::Path { max_depth: 8, rr_depth: 3, hide_emitters: true },
-            Integrator::DIRECT,
-            Integrator::Direct { samples: direct::DirectSamples { emitter: 2, bsdf: 1 }, hide_emitters: true },
-        ];
-        for simd in Simd::ALL.map(|(_, s)| s).into_iter().filter(|s| s.available()) {
-            scene.set_simd(simd);
-            for integrator in integrators {
-                let one: Vec<Rgb> =
-                    rays.iter().zip(&samplers).map(|(&r, s)| integrator.li(&scene, r, &mut s.clone())).collect();
-                let mut out = vec![Rgb::splat(-1.0); rays.len()];
-                // Batches of 37: full packets and a remainder.
-                for ((r, s), o) in rays.chunks(37).zip(samplers.chunks(37)).zip(out.chunks_mut(37)) {
-                    integrator.li_batch(&scene, r, s, o);
-                }
-                for (k, (a, b)) in out.iter().zip(&one).enumerate() {
-                    let (a, b) = (a.0.map(f32::to_bits), b.0.map(f32::to_bits));
-                    assert_eq!(a, b, "{simd:?} {integrator:?} sample {k}");
+        // The environment sampled beside the point light's choice, and as the only light.
+        for point in [true, false] {
+            let mut scene = open_sky(point);
+            let (w, h) = (scene.camera.width as u64, scene.camera.height as u64);
+            let (mut rays, mut samplers) = (Vec::new(), Vec::new());
+            for pixel in 0..w * h {
+                let mut sampler = PixelKey::new(4, pixel).sampler(pixel % 5);
+                let pos = Vec2::new((pixel % w) as f32, (pixel / w) as f32) + sampler.next_2d();
+                rays.push(scene.camera.ray(pos, Vec2::splat(0.5)));
+                samplers.push(sampler);
+            }
+            let escaping = rays.iter().filter(|r| scene.intersect(r).is_none()).count();
+            assert!(escaping > rays.len() / 4 && escaping < rays.len() * 3 / 4, "{escaping} of {} escape", rays.len());
+            let integrators = [
+                Integrator::path(8, 3),
+                Integrator::path(1, 5),
+                Integrator::path(0, 5),
+                Integrator::Path { max_depth: 8, rr_depth: 3, hide_emitters: true },
+                Integrator::DIRECT,
+                Integrator::Direct { samples: direct::DirectSamples { emitter: 2, bsdf: 1 }, hide_emitters: true },
+            ];
+            for simd in Simd::ALL.map(|(_, s)| s).into_iter().filter(|s| s.available()) {
+                scene.set_simd(simd);
+                for integrator in integrators {
+                    let one: Vec<Rgb> =
+                        rays.iter().zip(&samplers).map(|(&r, s)| integrator.li(&scene, r, &mut s.clone())).collect();
+                    let mut out = vec![Rgb::splat(-1.0); rays.len()];
+                    // Batches of 37: full packets and a remainder.
+                    for ((r, s), o) in rays.chunks(37).zip(samplers.chunks(37)).zip(out.chunks_mut(37)) {
+                        integrator.li_batch(&scene, r, s, o);
+                    }
+                    for (k, (a, b)) in out.iter().zip(&one).enumerate() {
+                        let (a, b) = (a.0.map(f32::to_bits), b.0.map(f32::to_bits));
+                        assert_eq!(a, b, "{simd:?} {integrator:?} sample {k}");
+                    }
                 }
             }
         }

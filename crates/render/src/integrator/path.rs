@@ -22,6 +22,7 @@
 //! 3's rule; emitters seen in mirrors or through glass stay, and they light the scene).
 
 use crate::integrator::{finite, power_heuristic};
+use crate::light::envmap::EnvLookup;
 use crate::light::RefPoint;
 use crate::ray::{spawn_ray, Ray};
 use crate::sampler::Sampler;
@@ -123,67 +124,125 @@ pub(super) fn trace(
     hide_emitters: bool,
     shadow: &mut impl FnMut(ShadowTest, Rgb),
 ) -> Rgb {
-    let mut result = Rgb::ZERO;
-    let mut beta = Rgb::ONE;
-    // Product of the index ratios crossed: β η² is the path's weight in power.
-    let mut eta = 1.0f32;
-    let mut depth = 0u32;
-    // None for the camera ray: emission seen directly has weight 1.
-    let mut prev: Option<Previous> = None;
-    // Whether the path has scattered off something (not only passed straight through).
-    let mut scattered = false;
     if max_depth == 0 {
-        return result;
+        return Rgb::ZERO;
     }
-    let mut ray = ray;
+    let mut path = PathState::new(ray, numbers);
     let mut hit = first;
-    // Each vertex's numbers are drawn before its ray query, so that the light sample's first
-    // table read can start loading meanwhile. The draws keep their order (a vertex's, then its
-    // Russian roulette), and numbers drawn for a vertex the path never reaches go unused: the
-    // stream is the sample's own, so the image does not change.
-    let mut numbers = numbers;
-    // Where the ray's direction falls on an environment map, once asked (bounce rays).
-    let mut looked = None;
+    while path.step(scene, hit.as_ref(), sampler, max_depth, rr_depth, hide_emitters, shadow) {
+        path.looked = scene.prefetch_environment(path.ray.d);
+        hit = scene.intersect(&path.ray);
+    }
+    path.result
+}
+
+/// A path between two vertices: what it has found, its throughput, and the ray to its next
+/// vertex with that vertex's numbers.
+pub(super) struct PathState {
+    /// The radiance found so far without shadow rays.
+    pub result: Rgb,
+    beta: Rgb,
+    /// Product of the index ratios crossed: β η² is the path's weight in power.
+    eta: f32,
+    depth: u32,
+    /// None for the camera ray: emission seen directly has weight 1.
+    prev: Option<Previous>,
+    /// Whether the path has scattered off something (not only passed straight through).
+    scattered: bool,
+    /// The ray to the next vertex.
+    pub ray: Ray,
+    /// The next vertex's numbers, drawn before its ray's query, so that the light sample's
+    /// first table read can start loading meanwhile. The draws keep their order (a vertex's,
+    /// then its Russian roulette), and numbers drawn for a vertex the path never reaches go
+    /// unused: the stream is the sample's own, so the image does not change.
+    numbers: VertexNumbers,
+    /// Where the ray's direction falls on an environment map, once asked (bounce rays).
+    pub looked: Option<EnvLookup>,
+}
+
+impl PathState {
+    /// A path along a ray from the origin up +z, with zero numbers: a lane's value until it
+    /// has a path.
+    pub(super) const IDLE: PathState = PathState {
+        result: Rgb::ZERO,
+        beta: Rgb::ONE,
+        eta: 1.0,
+        depth: 0,
+        prev: None,
+        scattered: false,
+        ray: Ray { o: glam::Vec3::ZERO, d: glam::Vec3::Z, t_max: f32::INFINITY },
+        numbers: VertexNumbers::ZERO,
+        looked: None,
+    };
+
+    /// A path starting along camera ray `ray`, its first vertex's numbers `numbers`.
+    #[inline]
+    pub(super) fn new(ray: Ray, numbers: VertexNumbers) -> Self {
+        PathState { ray, numbers, ..Self::IDLE }
+    }
+
+    /// The next vertex's light numbers.
+    #[inline(always)]
+    pub(super) fn light_numbers(&mut self) -> &mut LightNumbers {
+        &mut self.numbers.light
+    }
+
+    /// The vertex where the ray meets `hit`, or escapes (None): adds what is found there, hands
+    /// the light samples' shadow tests to `shadow`, and returns whether the path goes on; it
+    /// then has its next ray and that vertex's numbers. `max_depth` is at least 1.
     // Values are borrowed rather than moved where they were just written field by field (the
     // hit, the light sample, the next step): moved, they were copied with wide loads that
     // waited on the narrow stores (perf).
-    loop {
-        let Some(si) = hit.as_ref() else {
-            if !hide_emitters || scattered {
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(super) fn step(
+        &mut self,
+        scene: &Scene,
+        hit: Option<&SurfaceInteraction>,
+        sampler: &mut Sampler,
+        max_depth: u32,
+        rr_depth: u32,
+        hide_emitters: bool,
+        shadow: &mut impl FnMut(ShadowTest, Rgb),
+    ) -> bool {
+        let ray = self.ray;
+        let Some(si) = hit else {
+            if !hide_emitters || self.scattered {
                 // The light pdf only where a BRDF sample needs its MIS weight.
-                let from = prev.as_ref().filter(|pv| !pv.delta);
-                if let Some((le, pdf)) = scene.environment_eval_at(ray.d, looked.as_ref(), from.map(|pv| &pv.r), true) {
+                let from = self.prev.as_ref().filter(|pv| !pv.delta);
+                let looked = self.looked.as_ref();
+                if let Some((le, pdf)) = scene.environment_eval_at(ray.d, looked, from.map(|pv| &pv.r), true) {
                     let w = from.map_or(1.0, |pv| power_heuristic(pv.pdf, pdf));
-                    result += beta * le * w;
+                    self.result += self.beta * le * w;
                 }
             }
-            break;
+            return false;
         };
         let wo_world = -ray.d;
         if let Some((index, light)) = scene.area_light(si.shape) {
             let le = light.emitted(si.frame.n, si.uv, wo_world);
             if !le.is_black() {
-                let w = match &prev {
+                let w = match &self.prev {
                     Some(pv) if !pv.delta => {
                         power_heuristic(pv.pdf, scene.light_pdf(index, &pv.r, ray.d, Some((si.p, si.ng)), true))
                     }
                     _ => 1.0,
                 };
-                result += beta * le * w;
+                self.result += self.beta * le * w;
             }
         }
-        if depth.saturating_add(1) >= max_depth {
-            break;
+        if self.depth.saturating_add(1) >= max_depth {
+            return false;
         }
         let wo = si.frame.to_local(wo_world);
         if !(wo.z != 0.0) {
-            break;
+            return false;
         }
-        let VertexNumbers { light: ln, bc, bu } = numbers;
+        let VertexNumbers { light: ln, bc, bu } = self.numbers;
         // A model of delta lobes only gives light samples nothing (ρ = 0 towards them): none
         // are drawn there (their numbers were, so the stream does not change).
         let lights = !scene.delta_only(si.shape);
-        if lights {
+        if lights && ln.env.is_none() {
             scene.prefetch_light_cell(&ln);
         }
         // The light is sampled before the model is built, from the reference point the model
@@ -195,6 +254,7 @@ pub(super) fn trace(
         // The model continues the path from here: it sets the next ray, the step's throughput
         // factor and index ratio, and what the next vertex's MIS needs; false ends the path.
         let (mut weight, mut step_eta, mut pass_through) = (Rgb::ZERO, 1.0f32, false);
+        let beta = self.beta;
         let go_on = material.with(si, |brdf| {
             if wo.z < 0.0 && !brdf.back_side() {
                 return false;
@@ -229,33 +289,31 @@ pub(super) fn trace(
             if !usable(bs.wi.z) || !bs.weight.is_finite() {
                 return false;
             }
-            ray = spawn_ray(si.p, si.ng, si.frame.to_world(bs.wi));
+            self.ray = spawn_ray(si.p, si.ng, si.frame.to_world(bs.wi));
             (weight, step_eta, pass_through) = (bs.weight, bs.eta, bs.delta && bs.wi == -wo);
-            prev = Some(Previous { r, pdf: bs.pdf, delta: bs.delta });
+            self.prev = Some(Previous { r, pdf: bs.pdf, delta: bs.delta });
             true
         });
         if !go_on {
-            break;
+            return false;
         }
-        scattered |= !pass_through;
-        beta = beta * weight;
-        eta *= step_eta;
-        depth += 1;
+        self.scattered |= !pass_through;
+        self.beta = self.beta * weight;
+        self.eta *= step_eta;
+        self.depth += 1;
 
         // Russian roulette: survive with q = min(max channel of β η², 0.95), reweight by 1/q.
-        let q = (beta.max_channel() * eta * eta).min(0.95);
-        if depth >= rr_depth {
+        let q = (self.beta.max_channel() * self.eta * self.eta).min(0.95);
+        if self.depth >= rr_depth {
             if sampler.next_1d() >= q {
-                break;
+                return false;
             }
-            beta = beta / q;
+            self.beta = self.beta / q;
         }
-        if beta.max_channel() <= 0.0 {
-            break;
+        if self.beta.max_channel() <= 0.0 {
+            return false;
         }
-        numbers = VertexNumbers::draw(sampler, scene);
-        looked = scene.prefetch_environment(ray.d);
-        hit = scene.intersect(&ray);
+        self.numbers = VertexNumbers::draw(sampler, scene);
+        true
     }
-    result
 }

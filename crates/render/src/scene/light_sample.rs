@@ -7,7 +7,7 @@
 //! sampled beside it, for 6 % more time.
 
 use super::Scene;
-use crate::light::envmap::{EnvDensity, EnvLookup, EnvMap};
+use crate::light::envmap::{EnvDensity, EnvDirection, EnvLookup, EnvMap};
 use crate::light::{Light, LightSample, RefPoint};
 use crate::ray::Ray;
 use crate::sampler::Sampler;
@@ -28,11 +28,15 @@ pub struct LightNumbers {
     pub ue: f32,
     /// See `ue`.
     pub ue2: Vec2,
+    /// The environment map's direction for these numbers, where it was drawn ahead (by
+    /// [`Scene::presample_environment_packet`], for light samples weighted by MIS).
+    pub env: Option<EnvDirection>,
 }
 
 impl LightNumbers {
     /// Zeros, for lanes without a path.
-    pub const ZERO: LightNumbers = LightNumbers { uc: 0.0, uc2: 0.0, u: Vec2::ZERO, ue: 0.0, ue2: Vec2::ZERO };
+    pub const ZERO: LightNumbers =
+        LightNumbers { uc: 0.0, uc2: 0.0, u: Vec2::ZERO, ue: 0.0, ue2: Vec2::ZERO, env: None };
 
     /// Draws them for `scene` (the environment's only where it has a sample of its own), and
     /// starts loading the first table entry an environment map's sample will read.
@@ -43,7 +47,7 @@ impl LightNumbers {
             Some(_) => (sampler.next_1d(), sampler.next_2d()),
             None => (0.0, Vec2::ZERO),
         };
-        let n = LightNumbers { uc, uc2, u, ue, ue2 };
+        let n = LightNumbers { uc, uc2, u, ue, ue2, env: None };
         if let Some((map, u1, _)) = scene.env_map_numbers(&n) {
             map.prefetch_sample(u1, EnvDensity::Compensated);
         }
@@ -59,24 +63,36 @@ impl Scene {
     #[inline]
     pub fn sample_lights(&self, r: &RefPoint, n: &LightNumbers, mis: bool) -> [Option<LightSample>; 2] {
         let chosen = self.choose_light(r, n.uc).and_then(|(light, choice)| {
-            let mut s = self.sample_light(light, r, n.uc2, n.u, mis)?;
+            let mut s = self.sample_light(light, r, n.uc2, n.u, n.env.as_ref(), mis)?;
             s.pdf *= choice;
             Some(s)
         });
-        let env = self.split_environment().and_then(|e| self.sample_light(e, r, n.ue, n.ue2, mis));
+        let env = self.split_environment().and_then(|e| self.sample_light(e, r, n.ue, n.ue2, n.env.as_ref(), mis));
         [chosen, env]
     }
 
-    /// A sample of light `light` from `r`, with the density of its direction alone.
+    /// A sample of light `light` from `r`, with the density of its direction alone; an
+    /// environment map's direction is `drawn` where it was drawn ahead.
     #[inline]
-    fn sample_light(&self, light: usize, r: &RefPoint, uc2: f32, u: Vec2, mis: bool) -> Option<LightSample> {
+    fn sample_light(
+        &self,
+        light: usize,
+        r: &RefPoint,
+        uc2: f32,
+        u: Vec2,
+        drawn: Option<&EnvDirection>,
+        mis: bool,
+    ) -> Option<LightSample> {
         match &self.lights[light] {
             Light::Point(l) => l.sample(r),
             Light::Spot(l) => l.sample(r),
             Light::Directional(l) => l.sample(r),
             Light::Area(a) => a.sample(&self.shapes[a.shape].geometry, r, uc2, u),
             Light::Constant(c) => c.sample(r, u),
-            Light::EnvMap(e) => e.sample_by(r.p, uc2, u, env_density(mis)),
+            Light::EnvMap(e) => match drawn {
+                Some(d) if mis => e.light_sample(r.p, d),
+                _ => e.sample_by(r.p, uc2, u, env_density(mis)),
+            },
         }
     }
 
@@ -153,6 +169,53 @@ impl Scene {
         let l = map.lookup(d);
         map.prefetch_eval(&l, env_density(true));
         Some(l)
+    }
+
+    /// [`prefetch_environment`](Self::prefetch_environment) of the directions `d` of lanes
+    /// `lanes` (None elsewhere), their lookups made as one packet on instruction set `simd`.
+    #[inline]
+    pub fn prefetch_environment_packet(&self, d: &[Vec3; LANES], lanes: u32, simd: Simd) -> [Option<EnvLookup>; LANES] {
+        let mut out = [None; LANES];
+        let Some(Light::EnvMap(map)) = self.environment.map(|e| &self.lights[e]) else { return out };
+        if lanes != 0 {
+            let looked = map.lookup_packet(d, simd);
+            for_bits(lanes, |i| {
+                map.prefetch_eval(&looked[i], env_density(true));
+                out[i] = Some(looked[i]);
+            });
+        }
+        out
+    }
+
+    /// Whether the environment is a map (whose lookups and samples go in packets).
+    #[inline]
+    pub fn has_environment_map(&self) -> bool {
+        matches!(self.environment.map(|e| &self.lights[e]), Some(Light::EnvMap(_)))
+    }
+
+    /// The numbers (1D, 2D) an environment map's light sample takes from `n`, if the scene
+    /// samples one.
+    #[inline]
+    pub fn environment_numbers(&self, n: &LightNumbers) -> Option<(f32, Vec2)> {
+        self.env_map_numbers(n).map(|(_, u1, u2)| (u1, u2))
+    }
+
+    /// The environment map's directions for the numbers `uc`, `u` (see
+    /// [`environment_numbers`](Self::environment_numbers)) of lanes `lanes`, drawn ahead as
+    /// one packet on instruction set `simd` for light samples weighted by MIS: they depend on
+    /// the numbers alone, and [`sample_lights`](Self::sample_lights) takes them as they are
+    /// from [`LightNumbers::env`]. None without an environment map.
+    pub fn presample_environment_packet(
+        &self,
+        uc: &[f32; LANES],
+        u: &[Vec2; LANES],
+        lanes: u32,
+        simd: Simd,
+    ) -> [Option<EnvDirection>; LANES] {
+        match self.environment.map(|e| &self.lights[e]) {
+            Some(Light::EnvMap(map)) => map.sample_packet(uc, u, lanes, env_density(true), simd),
+            _ => [None; LANES],
+        }
     }
 
     /// The environment map the light samples of numbers `n` sample, if any, with the numbers

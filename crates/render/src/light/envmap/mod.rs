@@ -66,6 +66,25 @@ pub struct EnvLookup {
     f: Vec2,
 }
 
+/// A direction drawn from an environment map (world frame), with the radiance arriving along
+/// it and its solid-angle density.
+#[derive(Clone, Copy, Debug)]
+pub struct EnvDirection {
+    /// The unit direction.
+    pub wi: Vec3,
+    /// The radiance.
+    pub li: Rgb,
+    /// The density (possibly 0 or not finite: no sample).
+    pub pdf: f32,
+}
+
+/// The solid-angle density of a sample of grid density `pdf` where sin θ = `sin_t` (> 0):
+/// dω = 2π² sin θ du dv.
+#[inline(always)]
+fn solid_angle_pdf(pdf: f32, sin_t: f32) -> f32 {
+    pdf / (2.0 * PI * PI * sin_t)
+}
+
 /// Which density an environment map's light samples follow.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum EnvDensity {
@@ -284,20 +303,19 @@ impl EnvMap {
 
     /// [`sample`](Self::sample) by density `d`.
     pub fn sample_by(&self, p: Vec3, uc: f32, u: Vec2, d: EnvDensity) -> Option<LightSample> {
+        self.light_sample(p, &self.sample_direction(uc, u, d))
+    }
+
+    /// What [`sample_by`](Self::sample_by) draws before it knows the reference point: it
+    /// depends on the numbers alone.
+    #[inline]
+    pub fn sample_direction(&self, uc: f32, u: Vec2, d: EnvDensity) -> EnvDirection {
         let (wi, li, pdf) = match self.warp(d) {
             Some(warp) => {
                 let s = warp.sample(uc, u);
-                let mut uu = (s.i as f32 + 0.5 + s.frac.x) / self.width as f32;
-                if uu >= 1.0 {
-                    uu -= 1.0;
-                }
-                let v = (s.j as f32 + s.frac.y) / (self.height - 1) as f32;
-                let (sin_t, cos_t) = sin_cos_pi(v);
-                let (sin_p, cos_p) = sin_cos_pi(2.0 * uu);
-                let sin_t = sin_t.max(0.0);
-                let wi = Vec3::new(sin_t * sin_p, cos_t, -sin_t * cos_p);
+                let (wi, sin_t) = self.cell_direction(s.i, s.j, s.frac);
                 let pdf = if sin_t > 1e-18 {
-                    s.pdf / (2.0 * PI * PI * sin_t)
+                    solid_angle_pdf(s.pdf, sin_t)
                 } else {
                     self.density(warp, s.i, s.j, s.frac, sin_t)
                 };
@@ -309,19 +327,46 @@ impl EnvMap {
                 (wi, self.radiance(i, j, f), uniform_sphere_pdf())
             }
         };
-        let wi = match &self.to_world {
-            Some(r) => *r * wi,
-            None => wi,
-        };
-        (pdf > 0.0 && pdf.is_finite()).then_some(LightSample {
-            wi,
+        EnvDirection { wi: self.map_to_world(wi), li, pdf }
+    }
+
+    /// The light sample from `p` of direction `s` (None where its density is not positive
+    /// and finite).
+    #[inline]
+    pub fn light_sample(&self, p: Vec3, s: &EnvDirection) -> Option<LightSample> {
+        (s.pdf > 0.0 && s.pdf.is_finite()).then_some(LightSample {
+            wi: s.wi,
             dist: f32::INFINITY,
-            p: p + wi,
-            li,
-            pdf,
+            p: p + s.wi,
+            li: s.li,
+            pdf: s.pdf,
             delta: false,
             shape: None,
         })
+    }
+
+    /// The direction (map frame) at place `f` of cell (i, j) of the sampling grid, whose
+    /// cells are offset by half a texel in u, and its sin θ (≥ 0).
+    #[inline(always)]
+    fn cell_direction(&self, i: usize, j: usize, f: Vec2) -> (Vec3, f32) {
+        let mut uu = (i as f32 + 0.5 + f.x) / self.width as f32;
+        if uu >= 1.0 {
+            uu -= 1.0;
+        }
+        let v = (j as f32 + f.y) / (self.height - 1) as f32;
+        let (sin_t, cos_t) = sin_cos_pi(v);
+        let (sin_p, cos_p) = sin_cos_pi(2.0 * uu);
+        let sin_t = sin_t.max(0.0);
+        (Vec3::new(sin_t * sin_p, cos_t, -sin_t * cos_p), sin_t)
+    }
+
+    /// A map-frame direction in the world.
+    #[inline(always)]
+    fn map_to_world(&self, d: Vec3) -> Vec3 {
+        match &self.to_world {
+            Some(r) => *r * d,
+            None => d,
+        }
     }
 
     /// `eval` and `pdf` together, sharing the direction's cell: bit for bit what each returns.
