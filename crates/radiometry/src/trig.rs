@@ -16,7 +16,7 @@ const C: [f32; 4] = [-4.934_802, 4.058_710_6, -1.335_138, 0.232_126_77];
 const ROUND: f32 = 12_582_912.0;
 
 /// (sin πr, cos πr) for |r| ≤ ¼.
-#[inline]
+#[inline(always)]
 pub fn sin_cos_pi_quarter(r: f32) -> (f32, f32) {
     let r2 = r * r;
     let s = r * (S[0] + r2 * (S[1] + r2 * (S[2] + r2 * S[3])));
@@ -25,7 +25,7 @@ pub fn sin_cos_pi_quarter(r: f32) -> (f32, f32) {
 }
 
 /// (sin πx, cos πx) for |x| < 2²¹ (NaN beyond ±∞ and for NaN).
-#[inline]
+#[inline(always)]
 pub fn sin_cos_pi(x: f32) -> (f32, f32) {
     let k = (2.0 * x + ROUND) - ROUND;
     let (s, c) = sin_cos_pi_quarter(x - 0.5 * k);

@@ -101,9 +101,7 @@ impl Bilinear2D {
     /// The cell `sample(uc, u)` lands in, with its corners asked for.
     #[inline]
     pub fn prefetch_cell(&self, uc: f32, u_y: f32) -> (usize, usize) {
-        let k = self.cell.sample(uc, u_y).0;
-        let cx = self.nx - 1;
-        let (i, j) = (k % cx, k / cx);
+        let (i, j, _) = self.choose_cell(uc, u_y);
         self.prefetch_corners(i, j);
         (i, j)
     }

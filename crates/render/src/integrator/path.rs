@@ -181,6 +181,12 @@ impl PathState {
         PathState { ray, numbers, ..Self::IDLE }
     }
 
+    /// Whether the next vertex is the last (`max_depth` reached there): it draws no samples.
+    #[inline(always)]
+    pub(super) fn at_last_vertex(&self, max_depth: u32) -> bool {
+        self.depth.saturating_add(1) >= max_depth
+    }
+
     /// The next vertex's light numbers.
     #[inline(always)]
     pub(super) fn light_numbers(&mut self) -> &mut LightNumbers {
@@ -231,7 +237,7 @@ impl PathState {
                 self.result += self.beta * le * w;
             }
         }
-        if self.depth.saturating_add(1) >= max_depth {
+        if self.at_last_vertex(max_depth) {
             return false;
         }
         let wo = si.frame.to_local(wo_world);

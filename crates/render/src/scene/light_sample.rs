@@ -165,7 +165,7 @@ impl Scene {
     /// [`environment_eval_at`](Self::environment_eval_at).
     #[inline]
     pub fn prefetch_environment(&self, d: Vec3) -> Option<EnvLookup> {
-        let Some(Light::EnvMap(map)) = self.environment.map(|e| &self.lights[e]) else { return None };
+        let map = self.environment_map()?;
         let l = map.lookup(d);
         map.prefetch_eval(&l, env_density(true));
         Some(l)
@@ -176,7 +176,7 @@ impl Scene {
     #[inline]
     pub fn prefetch_environment_packet(&self, d: &[Vec3; LANES], lanes: u32, simd: Simd) -> [Option<EnvLookup>; LANES] {
         let mut out = [None; LANES];
-        let Some(Light::EnvMap(map)) = self.environment.map(|e| &self.lights[e]) else { return out };
+        let Some(map) = self.environment_map() else { return out };
         if lanes != 0 {
             let looked = map.lookup_packet(d, simd);
             for_bits(lanes, |i| {
@@ -187,10 +187,13 @@ impl Scene {
         out
     }
 
-    /// Whether the environment is a map (whose lookups and samples go in packets).
+    /// The environment, where it is a map (whose lookups and samples can go in packets).
     #[inline]
-    pub fn has_environment_map(&self) -> bool {
-        matches!(self.environment.map(|e| &self.lights[e]), Some(Light::EnvMap(_)))
+    pub fn environment_map(&self) -> Option<&EnvMap> {
+        match self.environment.map(|e| &self.lights[e]) {
+            Some(Light::EnvMap(map)) => Some(map),
+            _ => None,
+        }
     }
 
     /// The numbers (1D, 2D) an environment map's light sample takes from `n`, if the scene
@@ -212,9 +215,9 @@ impl Scene {
         lanes: u32,
         simd: Simd,
     ) -> [Option<EnvDirection>; LANES] {
-        match self.environment.map(|e| &self.lights[e]) {
-            Some(Light::EnvMap(map)) => map.sample_packet(uc, u, lanes, env_density(true), simd),
-            _ => [None; LANES],
+        match self.environment_map() {
+            Some(map) => map.sample_packet(uc, u, lanes, env_density(true), simd),
+            None => [None; LANES],
         }
     }
 

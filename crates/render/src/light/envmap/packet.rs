@@ -1,8 +1,9 @@
-//! An environment map's radiance along sixteen escaping rays at once: the lookup's angles,
-//! two atan2 per ray, cost more than its texel reads, and computed lane by lane in loops
-//! they become vector code (the same operations in the same order as [`EnvMap::eval`], so the
-//! same bits). Camera rays that miss every surface, most of the pixels of a scene under an
-//! open sky, take this path.
+//! An environment map's work for sixteen rays or light samples at once: the radiance along
+//! escaping rays, the lookups of bounce rays' directions, and light samples drawn ahead from
+//! their numbers. The lookups' angles (two atan2 per direction) and the samples' place in their
+//! cell, angles and density cost more than the table reads; computed lane by lane in loops
+//! they become vector code, making the same operations in the same order as [`EnvMap::eval`],
+//! [`EnvMap::lookup`] and [`EnvMap::sample_direction`] do, so the same bits.
 
 // Lane loops index several arrays in step: the form the vectoriser reads best.
 #![allow(clippy::needless_range_loop)]
