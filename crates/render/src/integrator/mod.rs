@@ -99,6 +99,57 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
     }
 }
 
+/// What the tests of the batch integrators share.
+#[cfg(test)]
+pub(crate) mod batch_check {
+    use super::Integrator;
+    use crate::ray::Ray;
+    use crate::sampler::{PixelKey, Sampler};
+    use crate::scene::Scene;
+    use glam::Vec2;
+    use radiometry::Rgb;
+
+    /// One jittered camera sample per pixel of `scene`'s image under `seed` (sample number
+    /// pixel mod `spread`): the rays and the samplers after drawing the film position.
+    pub(crate) fn camera_samples(scene: &Scene, seed: u64, spread: u64) -> (Vec<Ray>, Vec<Sampler>) {
+        let (w, h) = (scene.camera.width as u64, scene.camera.height as u64);
+        let (mut rays, mut samplers) = (Vec::new(), Vec::new());
+        for pixel in 0..w * h {
+            let mut sampler = PixelKey::new(seed, pixel).sampler(pixel % spread);
+            let pos = Vec2::new((pixel % w) as f32, (pixel / w) as f32) + sampler.next_2d();
+            rays.push(scene.camera.ray(pos, Vec2::splat(0.5)));
+            samplers.push(sampler);
+        }
+        (rays, samplers)
+    }
+
+    /// Asserts that [`Integrator::li_batch`], handed the samples in batches of each size of
+    /// `batches`, gives every sample bit for bit what [`Integrator::li`] gives it; returns the
+    /// one-ray estimates. `label` goes into the failure message.
+    pub(crate) fn assert_batches_match(
+        scene: &Scene,
+        integrator: Integrator,
+        rays: &[Ray],
+        samplers: &[Sampler],
+        batches: &[usize],
+        label: &str,
+    ) -> Vec<Rgb> {
+        let one: Vec<Rgb> = rays.iter().zip(samplers).map(|(&r, s)| integrator.li(scene, r, &mut s.clone())).collect();
+        for &batch in batches {
+            let mut out = vec![Rgb::splat(-1.0); rays.len()];
+            for ((r, s), o) in rays.chunks(batch).zip(samplers.chunks(batch)).zip(out.chunks_mut(batch)) {
+                integrator.li_batch(scene, r, s, o);
+            }
+            for (k, (a, b)) in out.iter().zip(&one).enumerate() {
+                let (a, b) = (a.0.map(f32::to_bits), b.0.map(f32::to_bits));
+                let simd = scene.simd();
+                assert_eq!(a, b, "{label} {simd:?} {integrator:?} batches of {batch}, sample {k}");
+            }
+        }
+        one
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

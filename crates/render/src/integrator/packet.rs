@@ -234,15 +234,15 @@ mod tests {
     use super::*;
     use crate::camera::{look_at, Camera, FovAxis};
     use crate::image::Image;
+    use crate::integrator::batch_check::{assert_batches_match, camera_samples};
     use crate::light::constant::ConstantEnv;
     use crate::light::envmap::EnvMap;
     use crate::light::point::PointLight;
     use crate::light::Light;
-    use crate::sampler::PixelKey;
     use crate::scene::SceneBuilder;
     use crate::shape::{sphere::Sphere, Geometry};
     use crate::simd::Simd;
-    use glam::{Vec2, Vec3};
+    use glam::Vec3;
 
     /// The environments of [`open_sky`].
     #[derive(Clone, Copy, Debug)]
@@ -288,14 +288,7 @@ mod tests {
         let skies = [(Sky::Map, true), (Sky::Map, false), (Sky::UniformMap, false), (Sky::Constant, true)];
         for (sky, point) in skies {
             let mut scene = open_sky(sky, point);
-            let (w, h) = (scene.camera.width as u64, scene.camera.height as u64);
-            let (mut rays, mut samplers) = (Vec::new(), Vec::new());
-            for pixel in 0..w * h {
-                let mut sampler = PixelKey::new(4, pixel).sampler(pixel % 5);
-                let pos = Vec2::new((pixel % w) as f32, (pixel / w) as f32) + sampler.next_2d();
-                rays.push(scene.camera.ray(pos, Vec2::splat(0.5)));
-                samplers.push(sampler);
-            }
+            let (rays, samplers) = camera_samples(&scene, 4, 5);
             let escaping = rays.iter().filter(|r| scene.intersect(r).is_none()).count();
             assert!(escaping > rays.len() / 4 && escaping < rays.len() * 3 / 4, "{escaping} of {} escape", rays.len());
             let integrators = [
@@ -309,17 +302,8 @@ mod tests {
             for simd in Simd::ALL.map(|(_, s)| s).into_iter().filter(|s| s.available()) {
                 scene.set_simd(simd);
                 for integrator in integrators {
-                    let one: Vec<Rgb> =
-                        rays.iter().zip(&samplers).map(|(&r, s)| integrator.li(&scene, r, &mut s.clone())).collect();
-                    let mut out = vec![Rgb::splat(-1.0); rays.len()];
                     // Batches of 37: full packets and a remainder.
-                    for ((r, s), o) in rays.chunks(37).zip(samplers.chunks(37)).zip(out.chunks_mut(37)) {
-                        integrator.li_batch(&scene, r, s, o);
-                    }
-                    for (k, (a, b)) in out.iter().zip(&one).enumerate() {
-                        let (a, b) = (a.0.map(f32::to_bits), b.0.map(f32::to_bits));
-                        assert_eq!(a, b, "{sky:?} {simd:?} {integrator:?} sample {k}");
-                    }
+                    assert_batches_match(&scene, integrator, &rays, &samplers, &[37], &format!("{sky:?}"));
                 }
             }
         }

@@ -514,9 +514,9 @@ impl DiffuseMeshes {
 #[cfg(test)]
 mod tests {
     use crate::camera::{look_at, Camera, FovAxis};
+    use crate::integrator::batch_check::{assert_batches_match, camera_samples};
     use crate::integrator::Integrator;
     use crate::material::Material;
-    use crate::sampler::PixelKey;
     use crate::scene::{Scene, SceneBuilder, Shape};
     use crate::shape::{Geometry, TriangleMesh};
     use crate::simd::{Simd, LANES};
@@ -593,33 +593,16 @@ mod tests {
     fn sixteen_lanes_give_each_path_its_one_ray_estimate_bit_for_bit() {
         let mut scene = room();
         assert!(scene.diffuse_meshes().is_some(), "the room is a scene of the batch integrator");
-        let (w, h) = (scene.camera.width as u64, scene.camera.height as u64);
         let mut lit = 0;
+        let (rays, samplers) = camera_samples(&scene, 11, 3);
         for simd in Simd::ALL.map(|(_, s)| s).into_iter().filter(|s| s.available()) {
             scene.set_simd(simd);
             for integrator in [Integrator::path(8, 3), Integrator::path(2, 5), Integrator::default()] {
-                let (mut rays, mut samplers) = (Vec::new(), Vec::new());
-                for pixel in 0..w * h {
-                    let mut sampler = PixelKey::new(11, pixel).sampler(pixel % 3);
-                    let pos = Vec2::new((pixel % w) as f32, (pixel / w) as f32) + sampler.next_2d();
-                    rays.push(scene.camera.ray(pos, Vec2::splat(0.5)));
-                    samplers.push(sampler);
-                }
-                let one: Vec<Rgb> =
-                    rays.iter().zip(&samplers).map(|(&r, s)| integrator.li(&scene, r, &mut s.clone())).collect();
-                lit += one.iter().filter(|l| l.max_channel() > 0.0).count();
                 // Lanes refilled from batches of every size: the whole image, a few packets
                 // and a remainder, one packet, fewer samples than lanes.
-                for batch in [rays.len(), 37, LANES, 5] {
-                    let mut out = vec![Rgb::splat(-1.0); rays.len()];
-                    for ((r, s), o) in rays.chunks(batch).zip(samplers.chunks(batch)).zip(out.chunks_mut(batch)) {
-                        integrator.li_batch(&scene, r, s, o);
-                    }
-                    for (k, (a, b)) in out.iter().zip(&one).enumerate() {
-                        let (a, b) = (a.0.map(f32::to_bits), b.0.map(f32::to_bits));
-                        assert_eq!(a, b, "{simd:?} {integrator:?} batches of {batch}, sample {k}");
-                    }
-                }
+                let batches = [rays.len(), 37, LANES, 5];
+                let one = assert_batches_match(&scene, integrator, &rays, &samplers, &batches, "room");
+                lit += one.iter().filter(|l| l.max_channel() > 0.0).count();
             }
         }
         assert!(lit > 100, "{lit} lit estimates");

@@ -11,7 +11,7 @@
 use super::{direction_to_uv, solid_angle_pdf, EnvDensity, EnvDirection, EnvLookup, EnvMap};
 use crate::simd::{dispatch, Bits, Simd, LANES};
 use glam::{Vec2, Vec3};
-use radiometry::warp2d::place_in_cell;
+use radiometry::warp2d::{place_in_cell, Bilinear2D};
 use radiometry::Rgb;
 
 impl EnvMap {
@@ -38,24 +38,30 @@ impl EnvMap {
         simd: Simd,
     ) -> [Option<EnvDirection>; LANES] {
         let mut out = [None; LANES];
-        if self.warp(d).is_none() {
+        let Some(warp) = self.warp(d) else {
             for k in Bits(lanes) {
                 out[k] = Some(self.sample_direction(uc[k], u[k], d));
             }
             return out;
-        }
-        let s = dispatch!(simd, self: EnvMap, sample_lanes(uc: &[f32; LANES], u: &[Vec2; LANES], lanes: u32, d: EnvDensity) -> [EnvDirection; LANES]);
+        };
+        let s = dispatch!(simd, self: EnvMap, sample_lanes(warp: &Bilinear2D, uc: &[f32; LANES], u: &[Vec2; LANES], lanes: u32) -> [EnvDirection; LANES]);
         for k in Bits(lanes) {
             out[k] = Some(s[k]);
         }
         out
     }
 
-    /// The table reads (the cell choice, its corners) lane by lane, then the arithmetic (the
-    /// place in the cell, the angles, the density) in loops over all lanes.
+    /// Samples by density `warp`: the table reads (the cell choice, its corners) lane by lane,
+    /// then the arithmetic (the place in the cell, the angles, the density) in loops over all
+    /// lanes.
     #[inline(always)]
-    fn sample_lanes(&self, uc: &[f32; LANES], u: &[Vec2; LANES], lanes: u32, d: EnvDensity) -> [EnvDirection; LANES] {
-        let warp = self.warp(d).expect("sample_packet checked it");
+    fn sample_lanes(
+        &self,
+        warp: &Bilinear2D,
+        uc: &[f32; LANES],
+        u: &[Vec2; LANES],
+        lanes: u32,
+    ) -> [EnvDirection; LANES] {
         let (mut i, mut j, mut ry) = ([0usize; LANES], [0usize; LANES], [0.0f32; LANES]);
         let (mut corners, mut scale) = ([[0.0f32; 4]; LANES], [0.0f32; LANES]);
         for k in Bits(lanes) {
