@@ -211,7 +211,8 @@ impl Bvh {
                 }
             } else {
                 let n = &self.nodes[cur as usize];
-                let (t, mut mask) = r.hit::<AVX>(n, *t_max);
+                let (t, hit) = r.hit::<AVX>(n, *t_max);
+                let mut mask = hit;
                 if mask != 0 {
                     let first = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
@@ -229,25 +230,17 @@ impl Bvh {
                         }
                         continue;
                     }
-                    // Push the hit children farthest first, so that the nearest is popped next:
-                    // an insertion sort of at most eight entries onto the stack top.
-                    let base = sp;
-                    stack[sp] = (n.child[first], t[first]);
-                    sp += 1;
-                    while mask != 0 {
-                        let i = mask.trailing_zeros() as usize;
-                        mask &= mask - 1;
-                        let e = (n.child[i], t[i]);
-                        let mut j = sp;
-                        while j > base && stack[j - 1].1 < e.1 {
-                            stack[j] = stack[j - 1];
-                            j -= 1;
-                        }
-                        stack[j] = e;
+                    if mask & (mask - 1) == 0 {
+                        // Two children: the nearer is visited next, the other pushed (of equal
+                        // distances the higher lane first, as `push_sorted` orders them).
+                        let second = mask.trailing_zeros() as usize;
+                        let (near, far) = if t[first] < t[second] { (first, second) } else { (second, first) };
+                        stack[sp] = (n.child[far], t[far]);
                         sp += 1;
+                        cur = n.child[near];
+                        continue;
                     }
-                    sp -= 1;
-                    cur = stack[sp].0;
+                    (sp, cur) = wide::push_sorted::<AVX>(stack, sp, &n.child, &t, hit);
                     continue;
                 }
             }
