@@ -21,7 +21,7 @@ use glam::Vec2;
 use radiometry::Rgb;
 
 /// Shadow tests waiting to be answered as a packet, with what each adds to its lane if visible.
-struct ShadowQueue<'a> {
+pub(super) struct ShadowQueue<'a> {
     scene: &'a Scene,
     rays: [Ray; LANES],
     skip: [Option<u32>; LANES],
@@ -30,11 +30,12 @@ struct ShadowQueue<'a> {
     add: [(usize, Rgb); LANES],
     len: usize,
     /// Per lane, the sum of its visible contributions so far.
-    lit: [Rgb; LANES],
+    pub(super) lit: [Rgb; LANES],
 }
 
 impl<'a> ShadowQueue<'a> {
-    fn new(scene: &'a Scene) -> Self {
+    /// An empty queue, every lane's sum zero.
+    pub(super) fn new(scene: &'a Scene) -> Self {
         let ray = Ray::new(glam::Vec3::ZERO, glam::Vec3::Z);
         ShadowQueue {
             scene,
@@ -47,7 +48,9 @@ impl<'a> ShadowQueue<'a> {
         }
     }
 
-    fn push(&mut self, lane: usize, test: ShadowTest, c: Rgb) {
+    /// Queues shadow test `test` of lane `lane`, which adds `c` to its sum if visible (at once
+    /// when there is nothing to test).
+    pub(super) fn push(&mut self, lane: usize, test: ShadowTest, c: Rgb) {
         if let Some((ray, skip)) = test {
             self.rays[self.len] = ray;
             self.skip[self.len] = skip;
@@ -60,7 +63,8 @@ impl<'a> ShadowQueue<'a> {
         }
     }
 
-    fn flush(&mut self) {
+    /// Answers the queued tests and adds what is visible, in the order queued.
+    pub(super) fn flush(&mut self) {
         let blocked = self.scene.occluded_packet(&self.rays, &self.skip, self.tested, self.scene.simd());
         for (k, &(lane, c)) in self.add[..self.len].iter().enumerate() {
             if blocked >> k & 1 == 0 {

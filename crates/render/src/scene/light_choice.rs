@@ -122,6 +122,13 @@ impl Scene {
         self.environment.filter(|_| self.lights.len() > 1)
     }
 
+    /// Whether the vertices draw numbers of their own for the environment
+    /// ([`split_environment`](Self::split_environment)).
+    #[inline]
+    pub(crate) fn splits_environment(&self) -> bool {
+        self.split_environment().is_some()
+    }
+
     /// How many lights the choice is among: all but a split environment.
     #[inline]
     fn choice_count(&self) -> usize {
