@@ -5,6 +5,7 @@
 //! loses a box the ray touches (Pharr, Jakob & Humphreys, pbrt-v4, §6.8.2).
 
 use crate::ray::Ray;
+use crate::simd::Bits;
 use glam::{Vec3A, Vec4};
 
 /// A child reference with this bit set is a leaf: its low bits give the first pack and the
@@ -174,10 +175,8 @@ pub(super) fn push_sorted<const AVX: bool>(
         return unsafe { push_ranked_avx(stack, sp, child, t, mask) };
     }
     // An insertion sort of at most eight entries onto the stack top.
-    let (base, mut sp, mut m) = (sp, sp, mask);
-    while m != 0 {
-        let i = m.trailing_zeros() as usize;
-        m &= m - 1;
+    let (base, mut sp) = (sp, sp);
+    for i in Bits(mask) {
         let e = (child[i], t[i]);
         let mut j = sp;
         while j > base && stack[j - 1].1 < e.1 {
@@ -206,10 +205,8 @@ unsafe fn push_ranked_avx(
     // SAFETY: `t` holds 8 floats.
     let tv = unsafe { _mm256_loadu_ps(t.as_ptr()) };
     let top = sp + mask.count_ones() as usize - 1;
-    let (mut nearest, mut m) = (0, mask);
-    while m != 0 {
-        let i = m.trailing_zeros() as usize;
-        m &= m - 1;
+    let mut nearest = 0;
+    for i in Bits(mask) {
         let ti = _mm256_set1_ps(t[i]);
         let lt = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(tv, ti)) as u32;
         let eq = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_EQ_OQ>(tv, ti)) as u32;

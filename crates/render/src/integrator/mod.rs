@@ -123,6 +123,18 @@ pub(crate) mod batch_check {
         (rays, samplers)
     }
 
+    /// A patchy 24 × 12 map (one channel up to 3), turned about two axes, of scale 2: a sky
+    /// whose sampling and lookups cross cells and rows.
+    pub(crate) fn patchy_map() -> crate::light::envmap::EnvMap {
+        let mut img = crate::image::Image::new(24, 12);
+        let mut s = Sampler::new(9, 0, 0);
+        for p in img.pixels.iter_mut() {
+            *p = Rgb::new(s.next_1d(), 3.0 * s.next_1d().powi(4), s.next_1d());
+        }
+        let turn = glam::Mat3::from_rotation_y(1.1) * glam::Mat3::from_rotation_z(0.2);
+        crate::light::envmap::EnvMap::new(&img, 2.0).unwrap().with_rotation(turn).unwrap()
+    }
+
     /// Asserts that [`Integrator::li_batch`], handed the samples in batches of each size of
     /// `batches`, gives every sample bit for bit what [`Integrator::li`] gives it; returns the
     /// one-ray estimates. `label` goes into the failure message.

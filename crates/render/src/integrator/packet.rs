@@ -237,10 +237,8 @@ fn presample_environment(
 mod tests {
     use super::*;
     use crate::camera::{look_at, Camera, FovAxis};
-    use crate::image::Image;
-    use crate::integrator::batch_check::{assert_batches_match, camera_samples};
+    use crate::integrator::batch_check::{assert_batches_match, camera_samples, patchy_map};
     use crate::light::constant::ConstantEnv;
-    use crate::light::envmap::EnvMap;
     use crate::light::point::PointLight;
     use crate::light::Light;
     use crate::scene::SceneBuilder;
@@ -268,13 +266,7 @@ mod tests {
         b.shape_with_model(Geometry::Sphere(Sphere::new(Vec3::new(-0.6, 0.0, 0.0), 0.6)), "ggx", &[("alpha", "0.3")])
             .unwrap();
         b.shape_with_model(Geometry::Sphere(Sphere::new(Vec3::new(0.7, -0.1, 0.2), 0.5)), "dielectric", &[]).unwrap();
-        let mut img = Image::new(24, 12);
-        let mut s = Sampler::new(9, 0, 0);
-        for p in img.pixels.iter_mut() {
-            *p = Rgb::new(s.next_1d(), 3.0 * s.next_1d().powi(4), s.next_1d());
-        }
-        let turn = glam::Mat3::from_rotation_y(1.1) * glam::Mat3::from_rotation_z(0.2);
-        let mut map = EnvMap::new(&img, 2.0).unwrap().with_rotation(turn).unwrap();
+        let mut map = patchy_map();
         map.importance = !matches!(sky, Sky::UniformMap);
         b.light(match sky {
             Sky::Constant => Light::Constant(ConstantEnv { radiance: Rgb::new(0.7, 1.0, 1.3) }),

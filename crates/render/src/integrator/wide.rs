@@ -621,13 +621,12 @@ impl DiffuseMeshes {
 #[cfg(test)]
 mod tests {
     use crate::camera::{look_at, Camera, FovAxis};
-    use crate::image::Image;
-    use crate::integrator::batch_check::{assert_batches_match, camera_samples};
+    use crate::integrator::batch_check::{assert_batches_match, camera_samples, patchy_map};
     use crate::integrator::Integrator;
-    use crate::light::envmap::EnvMap;
     use crate::light::point::PointLight;
     use crate::light::Light;
     use crate::material::Material;
+    use crate::ray::Ray;
     use crate::sampler::Sampler;
     use crate::scene::{Scene, SceneBuilder, Shape};
     use crate::shape::{Geometry, TriangleMesh};
@@ -672,6 +671,18 @@ mod tests {
         Arc::new(brdf::lambert::Lambert { albedo: Rgb(albedo) })
     }
 
+    /// Adds the room's contents: a smooth-shaded, uv-mapped box (its normals flipped to face
+    /// out) and a sheet standing in the room, different on its two sides.
+    fn furnish(b: &mut SceneBuilder) {
+        let mut block = cube(|p| p * 0.3 + Vec3::new(0.3, -0.7, -0.4), true);
+        block.flip = true;
+        b.shape(Shape::new(Geometry::Mesh(block), lambert([0.2, 0.8, 0.4])));
+        let sheet = vec![Vec3::new(-0.4, -1.0, -0.9), Vec3::new(-0.4, 0.2, -0.9), Vec3::new(-0.4, 0.2, -0.1)];
+        let sides = |a| Box::new(Material::Fixed(lambert(a)));
+        let two_sided = Material::TwoSided(sides([0.9, 0.1, 0.1]), sides([0.1, 0.2, 0.9]));
+        b.shape(Shape::new(Geometry::Mesh(TriangleMesh::new(sheet, None, vec![[0, 1, 2]]).unwrap()), two_sided));
+    }
+
     /// A room with a smooth-shaded, uv-mapped box in it (its normals flipped to face out) and a
     /// two-sided sheet, lit by a square mesh light under the ceiling.
     fn room() -> Scene {
@@ -684,17 +695,10 @@ mod tests {
         );
         let mut b = SceneBuilder::new(cam);
         b.shape(Shape::new(Geometry::Mesh(cube(|p| p, false)), lambert([0.7, 0.5, 0.3])));
-        let mut block = cube(|p| p * 0.3 + Vec3::new(0.3, -0.7, -0.4), true);
-        block.flip = true;
-        b.shape(Shape::new(Geometry::Mesh(block), lambert([0.2, 0.8, 0.4])));
+        furnish(&mut b);
         let (s, y) = (0.3, 0.98);
         let square = vec![Vec3::new(-s, y, -s), Vec3::new(s, y, -s), Vec3::new(s, y, s), Vec3::new(-s, y, s)];
         let square = TriangleMesh::new(square, None, vec![[0, 1, 2], [0, 2, 3]]).unwrap();
-        // A sheet standing in the room, different on its two sides.
-        let sheet = vec![Vec3::new(-0.4, -1.0, -0.9), Vec3::new(-0.4, 0.2, -0.9), Vec3::new(-0.4, 0.2, -0.1)];
-        let sides = |a| Box::new(Material::Fixed(lambert(a)));
-        let two_sided = Material::TwoSided(sides([0.9, 0.1, 0.1]), sides([0.1, 0.2, 0.9]));
-        b.shape(Shape::new(Geometry::Mesh(TriangleMesh::new(sheet, None, vec![[0, 1, 2]]).unwrap()), two_sided));
         let mut light = Shape::new(Geometry::Mesh(square), lambert([0.5; 3]));
         light.emission = Some(Texture::Constant(Rgb::new(6.0, 5.0, 4.0)));
         b.shape(light);
@@ -712,28 +716,32 @@ mod tests {
             12,
         );
         let mut b = SceneBuilder::new(cam);
-        let mut block = cube(|p| p * 0.3 + Vec3::new(0.3, -0.7, -0.4), true);
-        block.flip = true;
-        b.shape(Shape::new(Geometry::Mesh(block), lambert([0.2, 0.8, 0.4])));
-        let sheet = vec![Vec3::new(-0.4, -1.0, -0.9), Vec3::new(-0.4, 0.2, -0.9), Vec3::new(-0.4, 0.2, -0.1)];
-        let sides = |a| Box::new(Material::Fixed(lambert(a)));
-        let two_sided = Material::TwoSided(sides([0.9, 0.1, 0.1]), sides([0.1, 0.2, 0.9]));
-        b.shape(Shape::new(Geometry::Mesh(TriangleMesh::new(sheet, None, vec![[0, 1, 2]]).unwrap()), two_sided));
+        furnish(&mut b);
         let (s, y) = (1.5, -1.0);
         let floor = vec![Vec3::new(-s, y, s), Vec3::new(s, y, s), Vec3::new(s, y, -s), Vec3::new(-s, y, -s)];
         let floor = TriangleMesh::new(floor, None, vec![[0, 1, 2], [0, 2, 3]]).unwrap();
         b.shape(Shape::new(Geometry::Mesh(floor), lambert([0.6, 0.6, 0.5])));
-        let mut img = Image::new(24, 12);
-        let mut r = Sampler::new(9, 0, 0);
-        for p in img.pixels.iter_mut() {
-            *p = Rgb::new(r.next_1d(), 3.0 * r.next_1d().powi(4), r.next_1d());
-        }
-        let turn = glam::Mat3::from_rotation_y(1.1) * glam::Mat3::from_rotation_z(0.2);
-        b.light(Light::EnvMap(Box::new(EnvMap::new(&img, 2.0).unwrap().with_rotation(turn).unwrap())));
+        b.light(Light::EnvMap(Box::new(patchy_map())));
         if point {
             b.light(Light::Point(PointLight { position: Vec3::new(0.5, 1.0, 0.5), intensity: Rgb::splat(2.0) }));
         }
         b.build().unwrap()
+    }
+
+    /// Asserts on every instruction set, for three depth settings, that lanes refilled from
+    /// batches of every size (the whole image, a few packets and a remainder, one packet, fewer
+    /// samples than lanes) give each sample its one-ray estimate; returns how many were lit.
+    fn lit_in_batches(scene: &mut Scene, rays: &[Ray], samplers: &[Sampler], label: &str) -> usize {
+        let mut lit = 0;
+        for simd in Simd::ALL.map(|(_, s)| s).into_iter().filter(|s| s.available()) {
+            scene.set_simd(simd);
+            for integrator in [Integrator::path(8, 3), Integrator::path(2, 5), Integrator::default()] {
+                let batches = [rays.len(), 37, LANES, 5];
+                let one = assert_batches_match(scene, integrator, rays, samplers, &batches, label);
+                lit += one.iter().filter(|l| l.max_channel() > 0.0).count();
+            }
+        }
+        lit
     }
 
     #[test]
@@ -744,15 +752,7 @@ mod tests {
             let (rays, samplers) = camera_samples(&scene, 7, 3);
             let escaping = rays.iter().filter(|r| scene.intersect(r).is_none()).count();
             assert!(escaping > rays.len() / 10 && escaping < rays.len() / 2, "{escaping} of {} escape", rays.len());
-            let mut lit = 0;
-            for simd in Simd::ALL.map(|(_, s)| s).into_iter().filter(|s| s.available()) {
-                scene.set_simd(simd);
-                for integrator in [Integrator::path(8, 3), Integrator::path(2, 5), Integrator::default()] {
-                    let batches = [rays.len(), 37, LANES, 5];
-                    let one = assert_batches_match(&scene, integrator, &rays, &samplers, &batches, "open sky");
-                    lit += one.iter().filter(|l| l.max_channel() > 0.0).count();
-                }
-            }
+            let lit = lit_in_batches(&mut scene, &rays, &samplers, "open sky");
             assert!(lit > 100, "{lit} lit estimates");
         }
     }
@@ -761,18 +761,8 @@ mod tests {
     fn sixteen_lanes_give_each_path_its_one_ray_estimate_bit_for_bit() {
         let mut scene = room();
         assert!(scene.diffuse_meshes().is_some(), "the room is a scene of the batch integrator");
-        let mut lit = 0;
         let (rays, samplers) = camera_samples(&scene, 11, 3);
-        for simd in Simd::ALL.map(|(_, s)| s).into_iter().filter(|s| s.available()) {
-            scene.set_simd(simd);
-            for integrator in [Integrator::path(8, 3), Integrator::path(2, 5), Integrator::default()] {
-                // Lanes refilled from batches of every size: the whole image, a few packets
-                // and a remainder, one packet, fewer samples than lanes.
-                let batches = [rays.len(), 37, LANES, 5];
-                let one = assert_batches_match(&scene, integrator, &rays, &samplers, &batches, "room");
-                lit += one.iter().filter(|l| l.max_channel() > 0.0).count();
-            }
-        }
+        let lit = lit_in_batches(&mut scene, &rays, &samplers, "room");
         assert!(lit > 100, "{lit} lit estimates");
     }
 }
