@@ -82,7 +82,7 @@ impl Integrator {
     /// of its own.
     pub fn li_batch(&self, scene: &Scene, rays: &[Ray], samplers: &[Sampler], out: &mut [Rgb]) {
         if let (Integrator::Path { max_depth, rr_depth, hide_emitters: false }, Some(diffuse)) =
-            (*self, scene.diffuse_meshes())
+            (*self, scene.diffuse_surfaces())
         {
             diffuse.li(scene, rays, samplers, out, max_depth, rr_depth);
             for l in out.iter_mut() {

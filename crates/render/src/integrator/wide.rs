@@ -1,15 +1,19 @@
 //! Sixteen paths at once, their state in structure-of-arrays form, for the scenes of
-//! [`DiffuseMeshes`]: Lambertian triangle meshes lit by one area light, or by lights none of
-//! which is an area light. Each step of the path loop runs over all lanes together: the
+//! [`DiffuseSurfaces`]: Lambertian surfaces lit by one area light on a mesh, or by lights none
+//! of which is an area light. Each step of the path loop runs over all lanes together: the
 //! triangles' corners are gathered in one pass, then the arithmetic of the hit point, its
 //! frame, the area light's sample, the BRDF and the throughput runs in loops over the lanes,
 //! which the compiler turns into vector code; the shadow rays of a step go out as packets.
-//! Other lights are sampled lane by lane through the scene, an environment map's directions as
-//! one packet (the Cornell box lit by a map through its open front instead of its lamp, 64 spp:
-//! 2.23 → 1.64 s against the packet path of other scenes; a 60 000-triangle scene under a map
-//! gains 1 %: there the ray queries' memory traffic, not the shading, sets the pace). A lane whose path ends takes the next camera sample of the
-//! batch (path regeneration), so that lanes do not idle until the longest path of sixteen is
-//! done: on the Cornell box a lane was idle in 29 % of the steps without it.
+//! Spheres, rectangles and disks find their hits lane by lane through the scene, and textured
+//! albedos are looked up lane by lane. Other lights are sampled lane by lane through the scene,
+//! an environment map's directions as one packet, and the directions of the rays about to be
+//! traced fall on the map as one packet too, for the paths that escape (the Cornell box lit by
+//! a map through its open front instead of its lamp, 64 spp: 2.23 → 1.64 s against the packet
+//! path of other scenes, 1.83 → 1.68 s more with the escapes' packet; a 60 000-triangle scene
+//! under a map gains 1 %: there the ray queries' memory traffic, not the shading, sets the
+//! pace). A lane whose path ends takes the next camera sample of the batch (path regeneration),
+//! so that lanes do not idle until the longest path of sixteen is done: on the Cornell box a
+//! lane was idle in 29 % of the steps without it.
 //!
 //! Every lane makes the operations, in the same order, that [`path::trace`](super::path::trace)
 //! makes for its path (branches written as selections where a loop is to become vector code),
@@ -18,11 +22,11 @@
 use super::packet::ShadowQueue;
 use super::path::VertexNumbers;
 use super::power_heuristic;
-use crate::light::envmap::EnvDirection;
+use crate::light::envmap::{EnvDirection, EnvLookup};
 use crate::light::RefPoint;
 use crate::ray::{offset_origin, spawn_ray_to, surface_epsilon, Ray};
 use crate::sampler::{Sampler, Samplers16};
-use crate::scene::{DiffuseMeshes, LightNumbers, PacketHits, Scene};
+use crate::scene::{DiffuseSurfaces, LightNumbers, PacketHits, Scene};
 use crate::shape::sphere::solid_angle_pdf;
 use crate::shape::{Geometry, TriangleMesh};
 use crate::simd::{dispatch, Bits, LANES};
@@ -216,6 +220,17 @@ impl Corners {
         }
     }
 
+    /// Lane `i`'s surface coordinates at barycentrics (b1, b2), as [`TriangleMesh::surface`]
+    /// computes them.
+    #[inline(always)]
+    fn uv(&self, i: usize, b1: f32, b2: f32) -> Vec2 {
+        if !self.textured[i] {
+            return Vec2::new(b1, b2);
+        }
+        let b0 = 1.0 - b1 - b2;
+        self.uv[0][i] * b0 + self.uv[1][i] * b1 + self.uv[2][i] * b2
+    }
+
     /// Lane `i`'s corner `c`.
     #[inline(always)]
     fn corner(&self, i: usize, c: usize) -> Vec3 {
@@ -285,16 +300,16 @@ fn mirror_if(mirror: bool, w: Vec3) -> Vec3 {
     Vec3::new(w.x, w.y, if mirror { -w.z } else { w.z })
 }
 
-/// The mesh of shape `shape` (every shape of these scenes is one).
+/// The mesh of the emitting shape `shape` (an area light of these scenes lies on one).
 #[inline(always)]
-fn mesh(scene: &Scene, shape: usize) -> &TriangleMesh {
+fn light_mesh(scene: &Scene, shape: usize) -> &TriangleMesh {
     match scene.geometry(shape) {
         Geometry::Mesh(m) => m,
-        _ => unreachable!("DiffuseMeshes holds meshes only"),
+        _ => unreachable!("DiffuseSurfaces takes area lights on meshes only"),
     }
 }
 
-impl DiffuseMeshes {
+impl DiffuseSurfaces {
     /// Next-event estimation where the lights are sampled through the scene (no area light):
     /// lane by lane, as `path` samples them, an environment map's directions drawn ahead as
     /// one packet; each visible contribution is added to its lane's sum in `queue`, whose
@@ -352,7 +367,7 @@ impl DiffuseMeshes {
         max_depth: u32,
         rr_depth: u32,
     ) {
-        dispatch!(scene.simd(), self: DiffuseMeshes, trace::<AVX>(scene: &Scene, rays: &[Ray], samplers: &[Sampler],
+        dispatch!(scene.simd(), self: DiffuseSurfaces, trace::<AVX>(scene: &Scene, rays: &[Ray], samplers: &[Sampler],
             out: &mut [Rgb], max_depth: u32, rr_depth: u32) -> ())
     }
 
@@ -372,7 +387,7 @@ impl DiffuseMeshes {
             return;
         }
         // The area light, or None where the lights are sampled through the scene lane by lane.
-        let light = self.area.map(|(shape, _)| mesh(scene, shape));
+        let light = self.area.map(|(shape, _)| light_mesh(scene, shape));
         let (light_shape, le) = self.area.unwrap_or((usize::MAX, Rgb::ZERO));
         // The area densities of `Geometry::pdf` and of `TriangleMesh::sample_area`.
         let light_area = light.map_or(1.0, |l| l.area());
@@ -397,12 +412,17 @@ impl DiffuseMeshes {
         let mut numbers = Numbers::ZERO;
         let (mut corners, mut light_corners) = (Corners::new(), Corners::new());
         let (mut shape, mut albedo) = ([0usize; N], V3::ZERO);
+        let mut bary = [Vec2::ZERO; N];
         // Per lane: the front and back albedos, whether the back scatters, and whether the
         // path arrived on the back (where the back model sees mirrored directions).
         let (mut front, mut back, mut two_sided, mut on_back) = (V3::ZERO, V3::ZERO, [false; N], [false; N]);
         let (mut p, mut ng, mut wo) = (V3::ZERO, V3::ZERO, V3::ZERO);
         let mut frame = Frames { s: V3::ZERO, t: V3::ZERO, n: V3::ZERO };
         let mut camera = [Ray::new(Vec3::ZERO, Vec3::Z); N];
+        // Where each lane's ray falls on the environment map, looked up as a packet ahead of
+        // the query, for the paths that escape.
+        let map = scene.environment_map().is_some();
+        let mut looked: [Option<EnvLookup>; N] = [None; N];
         loop {
             // Path regeneration: a lane whose path ended writes its estimate and takes the next
             // camera sample, which draws its first numbers before its ray's query as `path`
@@ -445,21 +465,45 @@ impl DiffuseMeshes {
             if alive == 0 {
                 break;
             }
+            if map {
+                let missed = Bits(fresh).filter(|&i| hit[i].is_none()).fold(0u32, |m, i| m | 1 << i);
+                if missed != 0 {
+                    let found =
+                        scene.prefetch_environment_packet(&std::array::from_fn(|i| d.get(i)), missed, scene.simd());
+                    for i in Bits(missed) {
+                        looked[i] = found[i];
+                    }
+                }
+            }
             // Escaped paths end, lit by the environment where there is one.
+            // Lanes on a shape that is not a mesh (its hit found through the scene, lane by
+            // lane), and lanes whose albedo varies over the surface.
+            let (mut analytic, mut varying) = (0u32, 0u32);
             for i in Bits(alive) {
                 match hit[i] {
                     Some((k, _)) => {
                         let (s, tri) = scene.primitive(k);
                         shape[i] = s as usize;
-                        let (a, b) = self.albedo[s as usize];
+                        let (a, b) = &self.albedo[s as usize];
+                        // A varying albedo is found once the hit's uv is known (below).
+                        let (a, b) = (a.constant(), b.as_ref().map(|b| b.constant()));
+                        if a.is_none() || b.is_some_and(|b| b.is_none()) {
+                            varying |= 1 << i;
+                        }
+                        let a = a.unwrap_or(Rgb::ZERO);
                         front.set_rgb(i, a);
-                        back.set_rgb(i, b.unwrap_or(a));
+                        back.set_rgb(i, b.flatten().unwrap_or(a));
                         two_sided[i] = b.is_some();
-                        corners.load(i, mesh(scene, s as usize), tri as usize);
+                        match scene.geometry(s as usize) {
+                            Geometry::Mesh(m) => corners.load(i, m, tri as usize),
+                            _ => analytic |= 1 << i,
+                        }
                     }
                     None => {
                         let from = has_prev[i].then(|| RefPoint { p: prev_p.get(i), n: Some(prev_n.get(i)) });
-                        if let Some((le, pdf)) = scene.environment_eval_at(d.get(i), None, from.as_ref(), true) {
+                        if let Some((le, pdf)) =
+                            scene.environment_eval_at(d.get(i), looked[i].as_ref(), from.as_ref(), true)
+                        {
                             let w = if has_prev[i] { power_heuristic(prev_pdf[i], pdf) } else { 1.0 };
                             result.set_rgb(i, result.rgb(i) + beta.rgb(i) * le * w);
                         }
@@ -472,6 +516,7 @@ impl DiffuseMeshes {
                 let (p0, p1, p2) = (corners.corner(i, 0), corners.corner(i, 1), corners.corner(i, 2));
                 let (e1, e2) = (p1 - p0, p2 - p0);
                 let (b1, b2) = barycentrics(o.get(i), d.get(i), p0, e1, e2);
+                bary[i] = Vec2::new(b1, b2);
                 let (pi, ngi, ns) = corners.surface(i, b1, b2);
                 // Multiplying by the sign again undoes the flip exactly.
                 let f = frame_of(ns, corners.dp_du(i, ngi * corners.sign[i]));
@@ -482,6 +527,28 @@ impl DiffuseMeshes {
                 frame.set(i, &f);
                 on_back[i] = w.z < 0.0;
                 albedo.set_rgb(i, if on_back[i] { back.rgb(i) } else { front.rgb(i) });
+            }
+            // Spheres, rectangles and disks: their hits as the scene finds them.
+            let mut uv = [Vec2::ZERO; N];
+            for i in Bits(analytic) {
+                let Some((k, t)) = hit[i] else { continue };
+                let si = scene.interaction(&Ray::new(o.get(i), d.get(i)), k, t);
+                let w = si.frame.to_local(-d.get(i));
+                p.set(i, si.p);
+                ng.set(i, si.ng);
+                wo.set(i, w);
+                frame.set(i, &si.frame);
+                on_back[i] = w.z < 0.0;
+                albedo.set_rgb(i, if on_back[i] { back.rgb(i) } else { front.rgb(i) });
+                uv[i] = si.uv;
+            }
+            for i in Bits(varying) {
+                if analytic >> i & 1 == 0 {
+                    uv[i] = corners.uv(i, bary[i].x, bary[i].y);
+                }
+                let (a, b) = &self.albedo[shape[i]];
+                let side = if on_back[i] { b.as_ref().unwrap_or(a) } else { a };
+                albedo.set_rgb(i, side.at(uv[i]));
             }
             // Emission found by the previous vertex's BRDF sample (or seen by the camera).
             for i in Bits(alive) {
@@ -611,6 +678,9 @@ impl DiffuseMeshes {
                 }
             }
             numbers = draw(&mut lane_samplers, split);
+            if map {
+                looked = scene.prefetch_environment_packet(&std::array::from_fn(|i| d.get(i)), alive, scene.simd());
+            }
             for i in Bits(alive) {
                 hit[i] = scene.intersect_t_in::<AVX>(&Ray::new(o.get(i), d.get(i)));
             }
@@ -748,7 +818,7 @@ mod tests {
     fn lanes_lit_through_the_scene_give_each_path_its_one_ray_estimate_bit_for_bit() {
         for point in [false, true] {
             let mut scene = open_sky(point);
-            assert!(scene.diffuse_meshes().is_some(), "meshes under a sky are a scene of the batch integrator");
+            assert!(scene.diffuse_surfaces().is_some(), "meshes under a sky are a scene of the batch integrator");
             let (rays, samplers) = camera_samples(&scene, 7, 3);
             let escaping = rays.iter().filter(|r| scene.intersect(r).is_none()).count();
             assert!(escaping > rays.len() / 10 && escaping < rays.len() / 2, "{escaping} of {} escape", rays.len());
@@ -757,10 +827,67 @@ mod tests {
         }
     }
 
+    /// Spheres, rectangles, a disk and a cube, of constant and checkered albedos (a two-sided
+    /// sheet checkered in front only, its back in view), lit by a lamp (an emitting cube) or by a sky and a point.
+    fn shapes_scene(lamp: bool) -> Scene {
+        let lights = if lamp {
+            r#"<shape type="cube"><transform name="to_world"><scale value="0.2"/><translate y="2.5"/></transform>
+                <bsdf type="diffuse"/><emitter type="area"><rgb name="radiance" value="9, 8, 6"/></emitter></shape>"#
+        } else {
+            r#"<emitter type="constant"><rgb name="radiance" value="0.6, 0.7, 0.9"/></emitter>
+               <emitter type="point"><point name="position" x="1" y="2" z="1"/><rgb name="intensity" value="3"/></emitter>"#
+        };
+        let xml = format!(
+            r#"<scene version="3.0.0">
+            <sensor type="perspective"><float name="fov" value="60"/>
+                <transform name="to_world"><lookat origin="0, 1.6, 3.2" target="0, 0.3, 0" up="0, 1, 0"/></transform>
+                <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="12"/></film>
+            </sensor>
+            <texture type="checkerboard" id="checks">
+                <rgb name="color0" value="0.8, 0.3, 0.2"/><rgb name="color1" value="0.1, 0.5, 0.7"/>
+                <transform name="to_uv"><scale x="5" y="5"/></transform>
+            </texture>
+            <shape type="rectangle"><transform name="to_world"><rotate x="1" angle="-90"/><scale value="2"/></transform>
+                <bsdf type="diffuse"><ref name="reflectance" id="checks"/></bsdf></shape>
+            <shape type="sphere"><point name="center" x="-0.8" y="0.5" z="0"/><float name="radius" value="0.5"/>
+                <bsdf type="diffuse"><rgb name="reflectance" value="0.6, 0.6, 0.3"/></bsdf></shape>
+            <shape type="cube"><transform name="to_world"><scale value="0.3"/><translate x="0.7" y="0.3" z="0.3"/></transform>
+                <bsdf type="diffuse"><ref name="reflectance" id="checks"/></bsdf></shape>
+            <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate y="1" angle="150"/><translate x="0.1" y="0.5" z="-0.6"/></transform>
+                <bsdf type="twosided"><bsdf type="diffuse"><ref name="reflectance" id="checks"/></bsdf>
+                    <bsdf type="diffuse"><rgb name="reflectance" value="0.2, 0.7, 0.3"/></bsdf></bsdf></shape>
+            <shape type="disk"><transform name="to_world"><scale value="0.3"/><rotate x="1" angle="-60"/><translate x="-0.2" y="0.2" z="0.9"/></transform>
+                <bsdf type="diffuse"><rgb name="reflectance" value="0.9, 0.9, 0.9"/></bsdf></shape>
+            {lights}
+            </scene>"#
+        );
+        crate::xml::load_scene_str(&xml, std::path::Path::new("."), &[]).unwrap().scene
+    }
+
+    #[test]
+    fn lanes_on_shapes_and_textured_albedos_give_each_path_its_one_ray_estimate_bit_for_bit() {
+        for lamp in [false, true] {
+            let mut scene = shapes_scene(lamp);
+            assert!(scene.diffuse_surfaces().is_some(), "diffuse shapes are a scene of the batch integrator");
+            let (rays, samplers) = camera_samples(&scene, 5, 3);
+            // Every shape but the lamp is in view.
+            let seen: std::collections::HashSet<_> =
+                rays.iter().filter_map(|r| scene.intersect(r)).map(|si| si.shape).collect();
+            assert!((0..5).all(|s| seen.contains(&s)), "shapes seen: {seen:?}");
+            let lit = lit_in_batches(
+                &mut scene,
+                &rays,
+                &samplers,
+                if lamp { "shapes under a lamp" } else { "shapes under a sky" },
+            );
+            assert!(lit > 100, "{lit} lit estimates");
+        }
+    }
+
     #[test]
     fn sixteen_lanes_give_each_path_its_one_ray_estimate_bit_for_bit() {
         let mut scene = room();
-        assert!(scene.diffuse_meshes().is_some(), "the room is a scene of the batch integrator");
+        assert!(scene.diffuse_surfaces().is_some(), "the room is a scene of the batch integrator");
         let (rays, samplers) = camera_samples(&scene, 11, 3);
         let lit = lit_in_batches(&mut scene, &rays, &samplers, "room");
         assert!(lit > 100, "{lit} lit estimates");

@@ -8,7 +8,7 @@ mod light_sample;
 mod packet;
 mod walk;
 
-pub(crate) use diffuse::DiffuseMeshes;
+pub(crate) use diffuse::DiffuseSurfaces;
 pub use light_sample::LightNumbers;
 pub use packet::{lanes_of, PacketHits};
 
@@ -186,7 +186,7 @@ impl SceneBuilder {
         });
         let environment = lights.iter().position(Light::is_environment);
         let light_bounds = light_choice::bounds(&lights, &shapes);
-        let diffuse = diffuse::DiffuseMeshes::of(&shapes, &lights);
+        let diffuse = diffuse::DiffuseSurfaces::of(&shapes, &lights);
         let transmits = shapes.iter().map(|s| s.material.with(&SurfaceInteraction::PROBE, |b| b.transmits())).collect();
         let delta_only = shapes.iter().map(|s| s.material.delta_only()).collect();
         Ok(Scene {
@@ -242,7 +242,7 @@ pub struct Scene {
     /// (shape, primitive within the shape) per BVH-ordered primitive.
     refs: Vec<(u32, u32)>,
     /// Set when the batch path integrator can render the scene.
-    diffuse: Option<diffuse::DiffuseMeshes>,
+    diffuse: Option<diffuse::DiffuseSurfaces>,
     /// Per shape, whether its model transmits, as built at [`SurfaceInteraction::PROBE`]
     /// (textured models may differ elsewhere).
     transmits: Vec<bool>,
@@ -418,7 +418,7 @@ impl Scene {
 
     /// What the batch path integrator needs, when it can render the scene.
     #[inline]
-    pub(crate) fn diffuse_meshes(&self) -> Option<&diffuse::DiffuseMeshes> {
+    pub(crate) fn diffuse_surfaces(&self) -> Option<&diffuse::DiffuseSurfaces> {
         self.diffuse.as_ref()
     }
 
