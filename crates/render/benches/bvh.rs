@@ -359,12 +359,12 @@ fn cost_split(torus: &Scene) {
         let filter = render::filter::Filter::gaussian(0.5).expect("a filter");
         let film = SplatFilm::new(&filter, cam.width as usize, cam.height as usize);
         let mut row = film.row_splats();
-        for (pixel, _) in rays.iter().enumerate() {
-            let y = pixel / cam.width as usize;
-            if pixel % cam.width as usize == 0 {
-                row.reset(y);
-            }
-            row.splat(Vec2::new((pixel % cam.width as usize) as f32 + 0.5, y as f32 + 0.5), radiometry::Rgb::ONE);
+        let w = cam.width as usize;
+        let ones = vec![radiometry::Rgb::ONE; w];
+        for y in 0..rays.len() / w {
+            row.reset(y);
+            let at: Vec<(usize, Vec2)> = (0..w).map(|x| (x, Vec2::new(x as f32 + 0.5, y as f32 + 0.5))).collect();
+            row.splat_batch(&at, &ones, simd);
         }
         black_box(&row);
     });

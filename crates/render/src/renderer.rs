@@ -122,9 +122,9 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
     }
 
     /// Takes samples `s0..s1` of every pixel of row `y` (of `w`), a batch of [`BATCH`] camera
-    /// samples at a time, and hands each to `out(x, film position, radiance)`, pixel by pixel
-    /// and sample by sample in order.
-    fn row_samples(&self, y: usize, w: usize, s0: u32, s1: u32, mut out: impl FnMut(usize, Vec2, Rgb)) {
+    /// samples at a time, and hands each batch to `out(&[(x, film position)], radiances)`,
+    /// pixel by pixel and sample by sample in order.
+    fn row_samples(&self, y: usize, w: usize, s0: u32, s1: u32, mut out: impl FnMut(&[(usize, Vec2)], &[Rgb])) {
         let (scene, opts) = (self.scene, self.opts);
         let (mut rays, mut samplers, mut at) = (Vec::with_capacity(BATCH), Vec::with_capacity(BATCH), Vec::new());
         let mut l = vec![Rgb::ZERO; BATCH];
@@ -142,9 +142,7 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
             }
             let l = &mut l[..at.len()];
             opts.integrator.li_batch(scene, rays, samplers, l);
-            for (&(x, pos), &l) in at.iter().zip(l.iter()) {
-                out(x, pos, l);
-            }
+            out(at, l);
             rays.clear();
             samplers.clear();
             at.clear();
@@ -182,9 +180,11 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
                 if self.cancelled() {
                     return;
                 }
-                self.row_samples(y, w, s0, s1, |x, _, l| {
-                    for (a, c) in row[x].iter_mut().zip(l.0) {
-                        *a += c as f64;
+                self.row_samples(y, w, s0, s1, |at, l| {
+                    for (&(x, _), l) in at.iter().zip(l) {
+                        for (a, c) in row[x].iter_mut().zip(l.0) {
+                            *a += c as f64;
+                        }
                     }
                 });
                 *count = s1 - opts.first_sample;
@@ -225,7 +225,7 @@ impl<P: Fn(Progress) + Sync> Run<'_, P> {
                     if self.cancelled() {
                         return;
                     }
-                    self.row_samples(y, w, s0, s1, |_, pos, l| buf.splat(pos, l));
+                    self.row_samples(y, w, s0, s1, |at, l| buf.splat_batch(at, l, scene.simd()));
                     self.row_done(w, s1 - s0);
                 });
                 film.gather(b0, rows);
