@@ -26,7 +26,7 @@ use crate::light::envmap::{EnvDirection, EnvLookup};
 use crate::light::RefPoint;
 use crate::ray::{offset_origin, spawn_ray_to, surface_epsilon, Ray};
 use crate::sampler::{Sampler, Samplers16};
-use crate::scene::{DiffuseSurfaces, LightNumbers, PacketHits, Scene};
+use crate::scene::{Albedo, DiffuseSurfaces, LightNumbers, PacketHits, Scene};
 use crate::shape::sphere::solid_angle_pdf;
 use crate::shape::{Geometry, TriangleMesh};
 use crate::simd::{dispatch, Bits, LANES};
@@ -412,6 +412,7 @@ impl DiffuseSurfaces {
         let mut numbers = Numbers::ZERO;
         let (mut corners, mut light_corners) = (Corners::new(), Corners::new());
         let (mut shape, mut albedo) = ([0usize; N], V3::ZERO);
+        // Each lane's barycentrics on its triangle.
         let mut bary = [Vec2::ZERO; N];
         // Per lane: the front and back albedos, whether the back scatters, and whether the
         // path arrived on the back (where the back model sees mirrored directions).
@@ -475,24 +476,22 @@ impl DiffuseSurfaces {
                     }
                 }
             }
-            // Escaped paths end, lit by the environment where there is one.
             // Lanes on a shape that is not a mesh (its hit found through the scene, lane by
-            // lane), and lanes whose albedo varies over the surface.
+            // lane), and lanes with a side whose albedo varies (found once the uv is known).
             let (mut analytic, mut varying) = (0u32, 0u32);
+            // Escaped paths end, lit by the environment where there is one.
             for i in Bits(alive) {
                 match hit[i] {
                     Some((k, _)) => {
                         let (s, tri) = scene.primitive(k);
                         shape[i] = s as usize;
                         let (a, b) = &self.albedo[s as usize];
-                        // A varying albedo is found once the hit's uv is known (below).
-                        let (a, b) = (a.constant(), b.as_ref().map(|b| b.constant()));
-                        if a.is_none() || b.is_some_and(|b| b.is_none()) {
+                        let fixed = |side: &Albedo| side.constant().unwrap_or(Rgb::ZERO);
+                        if a.constant().is_none() || b.as_ref().is_some_and(|b| b.constant().is_none()) {
                             varying |= 1 << i;
                         }
-                        let a = a.unwrap_or(Rgb::ZERO);
-                        front.set_rgb(i, a);
-                        back.set_rgb(i, b.flatten().unwrap_or(a));
+                        front.set_rgb(i, fixed(a));
+                        back.set_rgb(i, fixed(b.as_ref().unwrap_or(a)));
                         two_sided[i] = b.is_some();
                         match scene.geometry(s as usize) {
                             Geometry::Mesh(m) => corners.load(i, m, tri as usize),
@@ -528,7 +527,8 @@ impl DiffuseSurfaces {
                 on_back[i] = w.z < 0.0;
                 albedo.set_rgb(i, if on_back[i] { back.rgb(i) } else { front.rgb(i) });
             }
-            // Spheres, rectangles and disks: their hits as the scene finds them.
+            // Spheres, rectangles and disks: their hits as the scene finds them (with the uvs
+            // that varying albedos are looked up at).
             let mut uv = [Vec2::ZERO; N];
             for i in Bits(analytic) {
                 let Some((k, t)) = hit[i] else { continue };
@@ -828,14 +828,16 @@ mod tests {
     }
 
     /// Spheres, rectangles, a disk and a cube, of constant and checkered albedos (a two-sided
-    /// sheet checkered in front only, its back in view), lit by a lamp (an emitting cube) or by a sky and a point.
+    /// sheet checkered in front only, its back in view), lit by a lamp (an emitting cube) or
+    /// by a sky and a point.
     fn shapes_scene(lamp: bool) -> Scene {
         let lights = if lamp {
             r#"<shape type="cube"><transform name="to_world"><scale value="0.2"/><translate y="2.5"/></transform>
                 <bsdf type="diffuse"/><emitter type="area"><rgb name="radiance" value="9, 8, 6"/></emitter></shape>"#
         } else {
             r#"<emitter type="constant"><rgb name="radiance" value="0.6, 0.7, 0.9"/></emitter>
-               <emitter type="point"><point name="position" x="1" y="2" z="1"/><rgb name="intensity" value="3"/></emitter>"#
+               <emitter type="point"><point name="position" x="1" y="2" z="1"/>
+                   <rgb name="intensity" value="3"/></emitter>"#
         };
         let xml = format!(
             r#"<scene version="3.0.0">
@@ -851,12 +853,15 @@ mod tests {
                 <bsdf type="diffuse"><ref name="reflectance" id="checks"/></bsdf></shape>
             <shape type="sphere"><point name="center" x="-0.8" y="0.5" z="0"/><float name="radius" value="0.5"/>
                 <bsdf type="diffuse"><rgb name="reflectance" value="0.6, 0.6, 0.3"/></bsdf></shape>
-            <shape type="cube"><transform name="to_world"><scale value="0.3"/><translate x="0.7" y="0.3" z="0.3"/></transform>
+            <shape type="cube">
+                <transform name="to_world"><scale value="0.3"/><translate x="0.7" y="0.3" z="0.3"/></transform>
                 <bsdf type="diffuse"><ref name="reflectance" id="checks"/></bsdf></shape>
-            <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate y="1" angle="150"/><translate x="0.1" y="0.5" z="-0.6"/></transform>
+            <shape type="rectangle"><transform name="to_world">
+                <scale value="0.5"/><rotate y="1" angle="150"/><translate x="0.1" y="0.5" z="-0.6"/></transform>
                 <bsdf type="twosided"><bsdf type="diffuse"><ref name="reflectance" id="checks"/></bsdf>
                     <bsdf type="diffuse"><rgb name="reflectance" value="0.2, 0.7, 0.3"/></bsdf></bsdf></shape>
-            <shape type="disk"><transform name="to_world"><scale value="0.3"/><rotate x="1" angle="-60"/><translate x="-0.2" y="0.2" z="0.9"/></transform>
+            <shape type="disk"><transform name="to_world">
+                <scale value="0.3"/><rotate x="1" angle="-60"/><translate x="-0.2" y="0.2" z="0.9"/></transform>
                 <bsdf type="diffuse"><rgb name="reflectance" value="0.9, 0.9, 0.9"/></bsdf></shape>
             {lights}
             </scene>"#

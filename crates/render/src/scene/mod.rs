@@ -8,7 +8,7 @@ mod light_sample;
 mod packet;
 mod walk;
 
-pub(crate) use diffuse::DiffuseSurfaces;
+pub(crate) use diffuse::{Albedo, DiffuseSurfaces};
 pub use light_sample::LightNumbers;
 pub use packet::{lanes_of, PacketHits};
 
