@@ -510,22 +510,25 @@ impl DiffuseSurfaces {
                     }
                 }
             }
-            // The hit points and their frames, as `Scene::interaction` finds them.
-            for i in 0..N {
-                let (p0, p1, p2) = (corners.corner(i, 0), corners.corner(i, 1), corners.corner(i, 2));
-                let (e1, e2) = (p1 - p0, p2 - p0);
-                let (b1, b2) = barycentrics(o.get(i), d.get(i), p0, e1, e2);
-                bary[i] = Vec2::new(b1, b2);
-                let (pi, ngi, ns) = corners.surface(i, b1, b2);
-                // Multiplying by the sign again undoes the flip exactly.
-                let f = frame_of(ns, corners.dp_du(i, ngi * corners.sign[i]));
-                let w = f.to_local(-d.get(i));
-                p.set(i, pi);
-                ng.set(i, ngi);
-                wo.set(i, w);
-                frame.set(i, &f);
-                on_back[i] = w.z < 0.0;
-                albedo.set_rgb(i, if on_back[i] { back.rgb(i) } else { front.rgb(i) });
+            // The hit points and their frames on meshes, as `Scene::interaction` finds them
+            // (skipped where no lane is on one).
+            if alive & !analytic != 0 {
+                for i in 0..N {
+                    let (p0, p1, p2) = (corners.corner(i, 0), corners.corner(i, 1), corners.corner(i, 2));
+                    let (e1, e2) = (p1 - p0, p2 - p0);
+                    let (b1, b2) = barycentrics(o.get(i), d.get(i), p0, e1, e2);
+                    bary[i] = Vec2::new(b1, b2);
+                    let (pi, ngi, ns) = corners.surface(i, b1, b2);
+                    // Multiplying by the sign again undoes the flip exactly.
+                    let f = frame_of(ns, corners.dp_du(i, ngi * corners.sign[i]));
+                    let w = f.to_local(-d.get(i));
+                    p.set(i, pi);
+                    ng.set(i, ngi);
+                    wo.set(i, w);
+                    frame.set(i, &f);
+                    on_back[i] = w.z < 0.0;
+                    albedo.set_rgb(i, if on_back[i] { back.rgb(i) } else { front.rgb(i) });
+                }
             }
             // Spheres, rectangles and disks: their hits as the scene finds them (with the uvs
             // that varying albedos are looked up at).
@@ -887,6 +890,15 @@ mod tests {
             );
             assert!(lit > 100, "{lit} lit estimates");
         }
+    }
+
+    #[test]
+    fn scenes_without_a_mesh_stay_with_the_packet_path() {
+        let xml = r#"<scene version="3.0.0"><sensor type="perspective"/>
+            <shape type="sphere"><bsdf type="diffuse"/></shape><emitter type="constant"/></scene>"#;
+        let scene = crate::xml::load_scene_str(xml, std::path::Path::new("."), &[]).unwrap().scene;
+        assert!(scene.diffuse_surfaces().is_none());
+        assert!(shapes_scene(false).diffuse_surfaces().is_some());
     }
 
     #[test]

@@ -1,5 +1,5 @@
-//! The scenes the batch path integrator ([`crate::integrator`]'s `wide`) renders: surfaces of
-//! any shape, each of Lambert's model with a constant or textured albedo (on one side, or
+//! The scenes the batch path integrator ([`crate::integrator`]'s `wide`) renders: meshes and
+//! other shapes, each of Lambert's model with a constant or textured albedo (on one side, or
 //! `twosided`), lit by one area light of constant radiance on a mesh and nothing else (Cornell
 //! boxes, diffuse interiors), or by lights none of which is an area light (an environment map,
 //! point lights, the sun).
@@ -64,8 +64,14 @@ pub(crate) struct DiffuseSurfaces {
 }
 
 impl DiffuseSurfaces {
-    /// The description of a scene of `shapes` and `lights` when it is of this kind.
+    /// The description of a scene of `shapes` and `lights` when it is of this kind. A scene
+    /// without a mesh is not: the tracer's vector code is the meshes' hit points, and without
+    /// them it is slower than the packet path (a diffuse sphere under a constant sky, 128 spp:
+    /// 3.60 → 3.66 s).
     pub(super) fn of(shapes: &[Shape], lights: &[Light]) -> Option<Self> {
+        if !shapes.iter().any(|s| matches!(s.geometry, Geometry::Mesh(_))) {
+            return None;
+        }
         let area = match lights {
             [Light::Area(light)] => match (&light.radiance, &shapes[light.shape].geometry) {
                 (Texture::Constant(radiance), Geometry::Mesh(_)) => Some((light.shape, *radiance)),
