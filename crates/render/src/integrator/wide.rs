@@ -398,7 +398,9 @@ impl DiffuseSurfaces {
         let mut queue = ShadowQueue::new(scene);
         let (mut o, mut d) = (V3::ZERO, V3::ZERO);
         let mut hit: PacketHits = [None; N];
-        let (mut beta, mut result, mut lit) = (V3::ZERO, V3::ZERO, V3::ZERO);
+        // Each lane's throughput and the emission its path found; the visible contributions of
+        // its light samples (the area light's or those tested through the queue) sum in `queue.lit`.
+        let (mut beta, mut result) = (V3::ZERO, V3::ZERO);
         let mut depth = [0u32; N];
         // The previous vertex (its point and BRDF sample density), for the MIS weight of the
         // emission found next; none for the camera.
@@ -431,8 +433,7 @@ impl DiffuseSurfaces {
             let mut fresh = 0u32;
             for i in Bits(!alive & (u32::MAX >> (32 - N))) {
                 if held >> i & 1 == 1 {
-                    let lit = if light.is_some() { lit.rgb(i) } else { queue.lit[i] };
-                    out[sample[i]] = result.rgb(i) + lit;
+                    out[sample[i]] = result.rgb(i) + queue.lit[i];
                     held &= !(1 << i);
                 }
                 if next == rays.len() {
@@ -447,7 +448,6 @@ impl DiffuseSurfaces {
                 d.set(i, camera[i].d);
                 beta.set(i, Vec3::ONE);
                 result.set(i, Vec3::ZERO);
-                lit.set(i, Vec3::ZERO);
                 queue.lit[i] = Rgb::ZERO;
                 (depth[i], has_prev[i]) = (0, false);
                 fresh |= 1 << i;
@@ -630,7 +630,7 @@ impl DiffuseSurfaces {
                 let blocked =
                     if tested != 0 { scene.occluded_packet(&shadow_rays, &skip, tested, scene.simd()) } else { 0 };
                 for i in Bits(adds & !blocked) {
-                    lit.set_rgb(i, lit.rgb(i) + add.rgb(i));
+                    queue.lit[i] += add.rgb(i);
                 }
             } else {
                 self.lights_by_lane(
@@ -801,10 +801,12 @@ mod tests {
         b.build().unwrap()
     }
 
-    /// Asserts on every instruction set, for three depth settings, that lanes refilled from
-    /// batches of every size (the whole image, a few packets and a remainder, one packet, fewer
-    /// samples than lanes) give each sample its one-ray estimate; returns how many were lit.
-    fn lit_in_batches(scene: &mut Scene, rays: &[Ray], samplers: &[Sampler], label: &str) -> usize {
+    /// Asserts that `scene` is one of the batch integrator's and, on every instruction set, for
+    /// three depth settings, that lanes refilled from batches of every size (the whole image, a
+    /// few packets and a remainder, one packet, fewer samples than lanes) give each sample its
+    /// one-ray estimate, more than 100 of them lit.
+    fn lit_in_batches(scene: &mut Scene, rays: &[Ray], samplers: &[Sampler], label: &str) {
+        assert!(scene.diffuse_surfaces().is_some(), "{label} is a scene of the batch integrator");
         let mut lit = 0;
         for simd in Simd::ALL.map(|(_, s)| s).into_iter().filter(|s| s.available()) {
             scene.set_simd(simd);
@@ -814,19 +816,17 @@ mod tests {
                 lit += one.iter().filter(|l| l.max_channel() > 0.0).count();
             }
         }
-        lit
+        assert!(lit > 100, "{label}: {lit} lit estimates");
     }
 
     #[test]
     fn lanes_lit_through_the_scene_give_each_path_its_one_ray_estimate_bit_for_bit() {
         for point in [false, true] {
             let mut scene = open_sky(point);
-            assert!(scene.diffuse_surfaces().is_some(), "meshes under a sky are a scene of the batch integrator");
             let (rays, samplers) = camera_samples(&scene, 7, 3);
             let escaping = rays.iter().filter(|r| scene.intersect(r).is_none()).count();
             assert!(escaping > rays.len() / 10 && escaping < rays.len() / 2, "{escaping} of {} escape", rays.len());
-            let lit = lit_in_batches(&mut scene, &rays, &samplers, "open sky");
-            assert!(lit > 100, "{lit} lit estimates");
+            lit_in_batches(&mut scene, &rays, &samplers, "open sky");
         }
     }
 
@@ -869,26 +869,25 @@ mod tests {
             {lights}
             </scene>"#
         );
-        crate::xml::load_scene_str(&xml, std::path::Path::new("."), &[]).unwrap().scene
+        from_xml(&xml)
+    }
+
+    /// The scene of XML text `xml`.
+    fn from_xml(xml: &str) -> Scene {
+        crate::xml::load_scene_str(xml, std::path::Path::new("."), &[]).unwrap().scene
     }
 
     #[test]
     fn lanes_on_shapes_and_textured_albedos_give_each_path_its_one_ray_estimate_bit_for_bit() {
         for lamp in [false, true] {
             let mut scene = shapes_scene(lamp);
-            assert!(scene.diffuse_surfaces().is_some(), "diffuse shapes are a scene of the batch integrator");
             let (rays, samplers) = camera_samples(&scene, 5, 3);
             // Every shape but the lamp is in view.
             let seen: std::collections::HashSet<_> =
                 rays.iter().filter_map(|r| scene.intersect(r)).map(|si| si.shape).collect();
             assert!((0..5).all(|s| seen.contains(&s)), "shapes seen: {seen:?}");
-            let lit = lit_in_batches(
-                &mut scene,
-                &rays,
-                &samplers,
-                if lamp { "shapes under a lamp" } else { "shapes under a sky" },
-            );
-            assert!(lit > 100, "{lit} lit estimates");
+            let label = if lamp { "shapes under a lamp" } else { "shapes under a sky" };
+            lit_in_batches(&mut scene, &rays, &samplers, label);
         }
     }
 
@@ -896,17 +895,14 @@ mod tests {
     fn scenes_without_a_mesh_stay_with_the_packet_path() {
         let xml = r#"<scene version="3.0.0"><sensor type="perspective"/>
             <shape type="sphere"><bsdf type="diffuse"/></shape><emitter type="constant"/></scene>"#;
-        let scene = crate::xml::load_scene_str(xml, std::path::Path::new("."), &[]).unwrap().scene;
-        assert!(scene.diffuse_surfaces().is_none());
+        assert!(from_xml(xml).diffuse_surfaces().is_none());
         assert!(shapes_scene(false).diffuse_surfaces().is_some());
     }
 
     #[test]
     fn sixteen_lanes_give_each_path_its_one_ray_estimate_bit_for_bit() {
         let mut scene = room();
-        assert!(scene.diffuse_surfaces().is_some(), "the room is a scene of the batch integrator");
         let (rays, samplers) = camera_samples(&scene, 11, 3);
-        let lit = lit_in_batches(&mut scene, &rays, &samplers, "room");
-        assert!(lit > 100, "{lit} lit estimates");
+        lit_in_batches(&mut scene, &rays, &samplers, "room");
     }
 }
