@@ -70,22 +70,40 @@ pub(super) fn inverse_direction(d: glam::Vec3) -> (Vec3A, Vec3A) {
     (inv, inv * FAR_SCALE)
 }
 
-/// A ray prepared for box tests: origin and inverse direction, and which corner (0 lower,
-/// 1 upper) is the near one on each axis.
+/// A ray prepared for box tests: origin and inverse direction, and where a node's near and
+/// far planes on each axis lie among its box rows.
 #[derive(Clone, Copy)]
 pub(crate) struct RayBox {
     o: [f32; 3],
     inv: [f32; 3],
     inv_far: [f32; 3],
-    /// Bit a set when the direction's axis a is negative.
-    neg: u32,
+    /// Per axis, the first value of the near planes' row in [`Node::b`] read flat: the lower
+    /// corners' row where the direction is positive, else the upper ones'. Found once per ray,
+    /// so that the walk's loop does not select the rows again at every node.
+    near: [usize; 3],
+    /// The same for the far planes.
+    far: [usize; 3],
 }
 
 impl RayBox {
     #[inline]
     pub fn new(ray: &Ray) -> Self {
         let (inv, far) = inverse_direction(ray.d);
-        RayBox { o: ray.o.to_array(), inv: inv.to_array(), inv_far: far.to_array(), neg: inv.is_negative_bitmask() }
+        let neg = inv.is_negative_bitmask() as usize;
+        let row = |corner: usize, a: usize| (corner * 3 + a) * WIDTH;
+        RayBox {
+            o: ray.o.to_array(),
+            inv: inv.to_array(),
+            inv_far: far.to_array(),
+            near: std::array::from_fn(|a| row(neg >> a & 1, a)),
+            far: std::array::from_fn(|a| row(!neg >> a & 1, a)),
+        }
+    }
+
+    /// Row `start` (a `near` or `far` entry) of node `n`'s boxes.
+    #[inline(always)]
+    fn row(n: &Node, start: usize) -> &[f32; WIDTH] {
+        n.b.as_flattened().as_flattened()[start..start + WIDTH].try_into().expect("a row of WIDTH values")
     }
 
     /// Entry distances into the child boxes, and the mask (bit i for lane i) of those the ray
@@ -117,10 +135,9 @@ impl RayBox {
             let mut t_near = Vec4::ZERO;
             let mut t_far = Vec4::splat(t_max);
             for a in 0..3 {
-                let s = (self.neg >> a) as usize & 1;
                 let o = Vec4::splat(self.o[a]);
-                t_near = t_near.max((lanes(&n.b[s][a]) - o) * Vec4::splat(self.inv[a]));
-                t_far = t_far.min((lanes(&n.b[s ^ 1][a]) - o) * Vec4::splat(self.inv_far[a]));
+                t_near = t_near.max((lanes(Self::row(n, self.near[a])) - o) * Vec4::splat(self.inv[a]));
+                t_far = t_far.min((lanes(Self::row(n, self.far[a])) - o) * Vec4::splat(self.inv_far[a]));
             }
             t_near.write_to_slice(&mut out[4 * h..4 * h + 4]);
             mask |= t_near.cmple(t_far).bitmask() << (4 * h);
@@ -137,11 +154,13 @@ impl RayBox {
         use std::arch::x86_64::*;
         let mut t_near = _mm256_setzero_ps();
         let mut t_far = _mm256_set1_ps(t_max);
+        let rows = n.b.as_ptr().cast::<f32>();
         for a in 0..3 {
-            let s = (self.neg >> a) as usize & 1;
             let o = _mm256_set1_ps(self.o[a]);
-            // SAFETY: each row holds `WIDTH` = 8 floats.
-            let (near, far) = unsafe { (_mm256_loadu_ps(n.b[s][a].as_ptr()), _mm256_loadu_ps(n.b[s ^ 1][a].as_ptr())) };
+            // SAFETY: `near` and `far` hold starts of rows of `WIDTH` = 8 floats within the
+            // node's 48 box values (set in `new`).
+            let (near, far) =
+                unsafe { (_mm256_loadu_ps(rows.add(self.near[a])), _mm256_loadu_ps(rows.add(self.far[a]))) };
             // max/min with the running value first, as SSE's `Vec4::max`/`min` order them.
             t_near = _mm256_max_ps(t_near, _mm256_mul_ps(_mm256_sub_ps(near, o), _mm256_set1_ps(self.inv[a])));
             t_far = _mm256_min_ps(t_far, _mm256_mul_ps(_mm256_sub_ps(far, o), _mm256_set1_ps(self.inv_far[a])));
