@@ -252,9 +252,10 @@ impl PathState {
             scene.prefetch_light_cell(&ln);
         }
         // The light is sampled before the model is built, from the reference point the model
-        // likely gives (checked below), while the texels it is built from start loading.
+        // likely gives (checked below), so that the light sample's table reads and the model's
+        // texel reads can be under way together. (The texels are not prefetched: asking for
+        // them, two rows per lookup, cost more than it saved once paths went in packets.)
         let material = scene.material(si.shape);
-        material.prefetch(si.uv);
         let guess = scene.transmits_guess(si.shape);
         let guessed = if lights { scene.sample_lights(&reference(si, wo, guess), &ln, true) } else { [None, None] };
         // The model continues the path from here: it sets the next ray, the step's throughput

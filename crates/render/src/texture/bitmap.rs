@@ -252,27 +252,6 @@ impl Bitmap {
         (x0 as i64, y0 as i64, fx - x0, fy - y0)
     }
 
-    /// Starts loading the texels that `eval(uv)` and `eval_1(uv)` read: a hint, which changes
-    /// no result; asked for early, their cache misses overlap other work. The rows are found
-    /// by wrapping uv into [0, 1) in floating point, not by the lookup's exact integer wrap (with
-    /// its two divisions), which costs more than the load it announces: a texel off at an edge
-    /// or under another wrap mode only makes the hint miss.
-    #[inline]
-    pub fn prefetch(&self, uv: Vec2) {
-        let uv = self.options.to_uv.apply(uv);
-        let near = |u: f32, n: usize| (((u - floor(u)) * n as f32) as usize).min(n - 1);
-        let half = 0.5 / self.height as f32;
-        let x = near(uv.x, self.width);
-        // The two rows of the bilinear footprint (a nearest lookup reads one of these texels).
-        for y in [near(uv.y - half, self.height), near(uv.y + half, self.height)] {
-            let k = (y * self.width + x) * self.channels;
-            match &self.texels {
-                Texels::Bytes(b, _) => radiometry::prefetch::prefetch(&b[k]),
-                Texels::Floats(f) => radiometry::prefetch::prefetch(&f[k]),
-            }
-        }
-    }
-
     /// The RGB value at `uv` (before `to_uv`).
     pub fn eval(&self, uv: Vec2) -> Rgb {
         let uv = self.options.to_uv.apply(uv);
