@@ -158,7 +158,10 @@ impl Integrator {
 /// The paths go vertex by vertex together: each takes its step on its own, then the
 /// directions of the next rays fall on the environment map as one packet, and the map's light
 /// samples of the next vertices, which depend on their numbers alone, are drawn as one packet
-/// once the table reads that the prefetches started have had time (during the ray queries).
+/// after the ray queries, which give the cell-choice entries that drawing the numbers asked for
+/// ([`LightNumbers::draw`](crate::scene::LightNumbers::draw)) time to load. (Asking for each
+/// cell's corners and texels too, before the queries, cost more than it saved: that work is
+/// wasted on the paths that escape, and the packet's sampling reads them soon enough.)
 /// A path's first numbers are drawn only for rays that hit something.
 fn trace_together(
     scene: &Scene,
@@ -173,7 +176,6 @@ fn trace_together(
     let mut at: [Option<SurfaceInteraction>; LANES] = [None; LANES];
     for_bits(lanes, |i| {
         paths[i] = PathState::new(rays[i], path::VertexNumbers::draw(&mut samplers[i], scene));
-        scene.prefetch_light_cell(paths[i].light_numbers());
         let hit = hits[i].map(|(k, t)| scene.interaction(&rays[i], k, t));
         at[i] = path::past_hidden(scene, rays[i], hit, hide_emitters);
     });
@@ -193,10 +195,7 @@ fn trace_together(
         alive = next;
         if map {
             let looked = scene.prefetch_environment_packet(&paths.each_ref().map(|p| p.ray.d), alive, scene.simd());
-            for_bits(alive, |i| {
-                paths[i].looked = looked[i];
-                scene.prefetch_light_cell(paths[i].light_numbers());
-            });
+            for_bits(alive, |i| paths[i].looked = looked[i]);
         }
         for_bits(alive, |i| at[i] = scene.intersect(&paths[i].ray));
         if map {
