@@ -26,7 +26,7 @@ use crate::light::envmap::{EnvDirection, EnvLookup};
 use crate::light::RefPoint;
 use crate::ray::{offset_origin, spawn_ray_to, surface_epsilon, Ray};
 use crate::sampler::{Sampler, Samplers16};
-use crate::scene::{Albedo, DiffuseSurfaces, LightNumbers, PacketHits, Scene};
+use crate::scene::{Albedo, DiffuseSurfaces, LightNumbers, PacketHits, Scene, PACKET_MIN};
 use crate::shape::sphere::solid_angle_pdf;
 use crate::shape::{Geometry, TriangleMesh};
 use crate::simd::{dispatch, Bits, LANES};
@@ -36,10 +36,6 @@ use radiometry::{Frame, Rgb};
 use std::f32::consts::FRAC_1_PI;
 
 const N: usize = LANES;
-/// Fewer new camera rays than this are traced one by one rather than as a packet, whose walk
-/// costs more than their separate ones (perf on the Cornell box: the packet walk's share went
-/// from 4 % to 11 % when every refill went out as a packet).
-const PACKET_MIN: u32 = 8;
 
 /// Three numbers per lane: a point, a direction or an RGB value.
 #[derive(Clone, Copy)]
@@ -452,6 +448,8 @@ impl DiffuseSurfaces {
                 (depth[i], has_prev[i]) = (0, false);
                 fresh |= 1 << i;
             }
+            // Fewer go one by one, each walk inlined here (the packet query would take them
+            // one by one too, through a dispatch each).
             if fresh.count_ones() >= PACKET_MIN {
                 let hits = scene.intersect_t_packet(&camera, fresh, scene.simd());
                 for i in Bits(fresh) {

@@ -10,6 +10,7 @@ mod walk;
 
 pub(crate) use diffuse::{Albedo, DiffuseSurfaces};
 pub use light_sample::LightNumbers;
+pub(crate) use packet::PACKET_MIN;
 pub use packet::{lanes_of, PacketHits};
 
 use crate::bvh::{Bvh, Tri16};

@@ -13,6 +13,12 @@ use std::ops::Range;
 /// The closest hit of each lane, as (BVH-ordered primitive, distance).
 pub type PacketHits = [Option<(usize, f32)>; LANES];
 
+/// Fewer rays than this are traced one by one even when they are coherent: a packet's walk
+/// costs about as much for a few rays as for sixteen. (The sixteen-lane tracer's camera
+/// refills as packets took the packet walk's share of the Cornell box from 4 % to 11 % (perf);
+/// the shadow tests a packet of paths leaves at its end, four to six, went as packets too.)
+pub(crate) const PACKET_MIN: u32 = 8;
+
 /// One to sixteen rays as a packet query's lanes and active mask (unused lanes copy the first).
 ///
 /// # Panics
@@ -95,13 +101,17 @@ impl Scene {
     }
 }
 
-/// Whether the rays of `active` point into at most two octants: the cheap sign of rays
-/// coherent enough to share their nodes (a pixel's camera samples, shadow rays from nearby
-/// points to one or two lights). Incoherent packets (random bounces) would visit the union of
-/// their rays' nodes at sixteen lanes each, slower than one ray at a time (`cargo bench -p
-/// render --bench bvh`: 1.9 against 3.5 Mrays/s for random rays), so they are traced singly.
+/// Whether the rays of `active` are at least [`PACKET_MIN`] and point into at most two
+/// octants: the cheap sign of rays coherent enough to share their nodes (a pixel's camera
+/// samples, shadow rays from nearby points to one or two lights). Incoherent packets (random
+/// bounces) would visit the union of their rays' nodes at sixteen lanes each, slower than one
+/// ray at a time (`cargo bench -p render --bench bvh`: 1.9 against 3.5 Mrays/s for random
+/// rays), so they are traced singly.
 #[inline]
 fn coherent(rays: &[Ray; LANES], active: u32) -> bool {
+    if active.count_ones() < PACKET_MIN {
+        return false;
+    }
     let mut octants = 0u8;
     for_bits(active, |i| {
         let d = rays[i].d;
