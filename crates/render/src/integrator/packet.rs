@@ -162,6 +162,9 @@ impl Integrator {
 /// ([`LightNumbers::draw`](crate::scene::LightNumbers::draw)) time to load. (Asking for each
 /// cell's corners and texels too, before the queries, cost more than it saved: that work is
 /// wasted on the paths that escape, and the packet's sampling reads them soon enough.)
+/// The surface data of the hits are read in passes over the lanes, each starting the loads
+/// the next depends on (the hit's reference, its corners' indices, the corners): the lanes'
+/// cache misses overlap rather than each stalling its own lane.
 /// A path's first numbers are drawn only for rays that hit something.
 fn trace_together(
     scene: &Scene,
@@ -197,7 +200,16 @@ fn trace_together(
             let looked = scene.prefetch_environment_packet(&paths.each_ref().map(|p| p.ray.d), alive, scene.simd());
             for_bits(alive, |i| paths[i].looked = looked[i]);
         }
-        for_bits(alive, |i| at[i] = scene.intersect(&paths[i].ray));
+        let mut hits = [None; LANES];
+        for_bits(alive, |i| {
+            hits[i] = scene.intersect_t(&paths[i].ray);
+            if let Some((k, _)) = hits[i] {
+                scene.prefetch_primitive(k);
+            }
+        });
+        for_bits(alive, |i| hits[i].map_or((), |(k, _)| scene.prefetch_corners(k)));
+        for_bits(alive, |i| hits[i].map_or((), |(k, _)| scene.prefetch_vertices(k)));
+        for_bits(alive, |i| at[i] = hits[i].map(|(k, t)| scene.interaction(&paths[i].ray, k, t)));
         if map {
             presample_environment(scene, &mut paths, &at, alive, max_depth);
         }

@@ -405,6 +405,43 @@ impl Scene {
         SurfaceInteraction::new(t, &surface, shape as usize)
     }
 
+    /// Starts loading what [`interaction`](Self::interaction) reads first for BVH-ordered
+    /// primitive `k`: its reference. Then [`prefetch_corners`](Self::prefetch_corners) and
+    /// [`prefetch_vertices`](Self::prefetch_vertices), each once the loads before it have had
+    /// time: the three reads of a hit depend on one another. Hints; they change no result.
+    #[inline]
+    pub(crate) fn prefetch_primitive(&self, k: usize) {
+        radiometry::prefetch::prefetch(&self.refs[k]);
+    }
+
+    /// Starts loading the vertex indices of mesh triangle `k` (see `prefetch_primitive`).
+    #[inline]
+    pub(crate) fn prefetch_corners(&self, k: usize) {
+        let (shape, index) = self.refs[k];
+        if let Geometry::Mesh(m) = &self.shapes[shape as usize].geometry {
+            radiometry::prefetch::prefetch(&m.indices[index as usize]);
+        }
+    }
+
+    /// Starts loading the corners, vertex normals and uvs of mesh triangle `k` (see
+    /// `prefetch_primitive`).
+    #[inline]
+    pub(crate) fn prefetch_vertices(&self, k: usize) {
+        let (shape, index) = self.refs[k];
+        if let Geometry::Mesh(m) = &self.shapes[shape as usize].geometry {
+            for v in m.indices[index as usize] {
+                let v = v as usize;
+                radiometry::prefetch::prefetch(&m.positions[v]);
+                if let Some(n) = &m.normals {
+                    radiometry::prefetch::prefetch(&n[v]);
+                }
+                if let Some(t) = &m.uvs {
+                    radiometry::prefetch::prefetch(&t[v]);
+                }
+            }
+        }
+    }
+
     /// The (shape, primitive within the shape) of BVH-ordered primitive `k`.
     #[inline]
     pub(crate) fn primitive(&self, k: usize) -> (u32, u32) {
