@@ -207,7 +207,7 @@ fn trace_together(
                 scene.prefetch_primitive(k);
             }
         });
-        for_bits(alive, |i| hits[i].map_or((), |(k, _)| scene.prefetch_corners(k)));
+        for_bits(alive, |i| hits[i].map_or((), |(k, _)| scene.prefetch_indices(k)));
         for_bits(alive, |i| hits[i].map_or((), |(k, _)| scene.prefetch_vertices(k)));
         for_bits(alive, |i| at[i] = hits[i].map(|(k, t)| scene.interaction(&paths[i].ray, k, t)));
         if map {

@@ -406,7 +406,7 @@ impl Scene {
     }
 
     /// Starts loading what [`interaction`](Self::interaction) reads first for BVH-ordered
-    /// primitive `k`: its reference. Then [`prefetch_corners`](Self::prefetch_corners) and
+    /// primitive `k`: its reference. Then [`prefetch_indices`](Self::prefetch_indices) and
     /// [`prefetch_vertices`](Self::prefetch_vertices), each once the loads before it have had
     /// time: the three reads of a hit depend on one another. Hints; they change no result.
     #[inline]
@@ -414,31 +414,31 @@ impl Scene {
         radiometry::prefetch::prefetch(&self.refs[k]);
     }
 
-    /// Starts loading the vertex indices of mesh triangle `k` (see `prefetch_primitive`).
+    /// Starts loading the vertex indices of primitive `k` where it is a mesh triangle (see
+    /// `prefetch_primitive`).
     #[inline]
-    pub(crate) fn prefetch_corners(&self, k: usize) {
-        let (shape, index) = self.refs[k];
-        if let Geometry::Mesh(m) = &self.shapes[shape as usize].geometry {
-            radiometry::prefetch::prefetch(&m.indices[index as usize]);
+    pub(crate) fn prefetch_indices(&self, k: usize) {
+        if let Some((m, i)) = self.mesh_triangle(k) {
+            m.prefetch_indices(i);
         }
     }
 
-    /// Starts loading the corners, vertex normals and uvs of mesh triangle `k` (see
+    /// Starts loading the vertex data of primitive `k` where it is a mesh triangle (see
     /// `prefetch_primitive`).
     #[inline]
     pub(crate) fn prefetch_vertices(&self, k: usize) {
+        if let Some((m, i)) = self.mesh_triangle(k) {
+            m.prefetch_vertices(i);
+        }
+    }
+
+    /// The mesh and triangle of BVH-ordered primitive `k`, if it is a mesh triangle.
+    #[inline]
+    fn mesh_triangle(&self, k: usize) -> Option<(&crate::shape::TriangleMesh, usize)> {
         let (shape, index) = self.refs[k];
-        if let Geometry::Mesh(m) = &self.shapes[shape as usize].geometry {
-            for v in m.indices[index as usize] {
-                let v = v as usize;
-                radiometry::prefetch::prefetch(&m.positions[v]);
-                if let Some(n) = &m.normals {
-                    radiometry::prefetch::prefetch(&n[v]);
-                }
-                if let Some(t) = &m.uvs {
-                    radiometry::prefetch::prefetch(&t[v]);
-                }
-            }
+        match &self.shapes[shape as usize].geometry {
+            Geometry::Mesh(m) => Some((m, index as usize)),
+            _ => None,
         }
     }
 

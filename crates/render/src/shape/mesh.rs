@@ -273,6 +273,28 @@ impl TriangleMesh {
         Aabb { min: a.min(b).min(c), max: a.max(b).max(c) }
     }
 
+    /// Starts loading triangle `i`'s vertex indices, the first read of [`surface`](Self::surface)
+    /// (a hint; it changes no result).
+    #[inline]
+    pub fn prefetch_indices(&self, i: usize) {
+        radiometry::prefetch::prefetch(&self.indices[i]);
+    }
+
+    /// Once its indices are loaded, starts loading what [`surface`](Self::surface) reads of
+    /// triangle `i` next: its corners, vertex normals and uvs (a hint).
+    #[inline]
+    pub fn prefetch_vertices(&self, i: usize) {
+        for v in self.indices[i].map(|k| k as usize) {
+            radiometry::prefetch::prefetch(&self.positions[v]);
+            if let Some(n) = &self.normals {
+                radiometry::prefetch::prefetch(&n[v]);
+            }
+            if let Some(t) = &self.uvs {
+                radiometry::prefetch::prefetch(&t[v]);
+            }
+        }
+    }
+
     /// The surface at barycentrics (b1, b2) of corners 1 and 2 of triangle `i`.
     pub fn surface(&self, i: usize, b1: f32, b2: f32) -> SurfacePoint {
         let idx = self.indices[i].map(|k| k as usize);
