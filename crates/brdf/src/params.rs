@@ -225,14 +225,23 @@ impl ParamSpec {
     }
 
     /// `value` moved into this parameter's range (a texture's value at a surface point; a
-    /// non-finite value becomes the default).
+    /// non-finite channel becomes the range's minimum).
+    #[inline]
     pub fn clamp(&self, value: [f32; 3]) -> Value {
-        let c = |v: f32, min: f64, max: f64| if v.is_finite() { (v as f64).clamp(min, max) } else { min };
-        match &self.kind {
-            ParamKind::Float { min, max } => Value::Float(c(value[0], *min, *max)),
-            ParamKind::Rgb { min, max } => Value::Rgb(value.map(|v| c(v, *min, *max))),
-            _ => self.default.clone(),
+        // max then min rather than `clamp`, which checks min ≤ max at every hit.
+        let c = |v: f32, min: f64, max: f64| if v.is_finite() { (v as f64).max(min).min(max) } else { min };
+        match self.kind {
+            ParamKind::Float { min, max } => Value::Float(c(value[0], min, max)),
+            ParamKind::Rgb { min, max } => Value::Rgb(value.map(|v| c(v, min, max))),
+            _ => self.default_value(),
         }
+    }
+
+    /// The default, out of line: a value of a kind that does not vary.
+    #[cold]
+    #[inline(never)]
+    fn default_value(&self) -> Value {
+        self.default.clone()
     }
 }
 
@@ -266,18 +275,12 @@ pub trait ParamSource {
 
     /// A real parameter.
     fn float(&self, name: &'static str) -> f32 {
-        match self.value(name) {
-            Value::Float(v) => *v as f32,
-            other => panic!("parameter '{name}' is {other:?}, not a float"),
-        }
+        float_of(name, self.value(name))
     }
 
     /// An RGB parameter.
     fn rgb(&self, name: &'static str) -> Rgb {
-        match self.value(name) {
-            Value::Rgb([r, g, b]) => Rgb::new(*r as f32, *g as f32, *b as f32),
-            other => panic!("parameter '{name}' is {other:?}, not RGB"),
-        }
+        rgb_of(name, self.value(name))
     }
 
     /// A choice parameter.
@@ -298,10 +301,7 @@ pub trait ParamSource {
 
     /// A flag.
     fn flag(&self, name: &'static str) -> bool {
-        match self.value(name) {
-            Value::Bool(b) => *b,
-            other => panic!("parameter '{name}' is {other:?}, not a flag"),
-        }
+        flag_of(name, self.value(name))
     }
 
     /// A nested model, as written.
@@ -310,6 +310,30 @@ pub trait ParamSource {
             Value::Model(m) => m,
             other => panic!("parameter '{name}' is {other:?}, not a model"),
         }
+    }
+}
+
+/// Parameter `name`'s value `v` as a real number.
+fn float_of(name: &str, v: &Value) -> f32 {
+    match v {
+        Value::Float(v) => *v as f32,
+        other => panic!("parameter '{name}' is {other:?}, not a float"),
+    }
+}
+
+/// Parameter `name`'s value `v` as RGB.
+fn rgb_of(name: &str, v: &Value) -> Rgb {
+    match v {
+        Value::Rgb([r, g, b]) => Rgb::new(*r as f32, *g as f32, *b as f32),
+        other => panic!("parameter '{name}' is {other:?}, not RGB"),
+    }
+}
+
+/// Parameter `name`'s value `v` as a flag.
+fn flag_of(name: &str, v: &Value) -> bool {
+    match v {
+        Value::Bool(b) => *b,
+        other => panic!("parameter '{name}' is {other:?}, not a flag"),
     }
 }
 
@@ -423,16 +447,32 @@ impl<'a> Varied<'a> {
         self
     }
 
-    /// Where the recorded order answers `name` (a `was_given` question when `given`), if it
-    /// is the question it expects next.
+    /// The recorded answer to `name` (a `was_given` question when `given`), if it is the
+    /// question the order expects next.
     #[inline]
-    fn replay(&self, name: &'static str, given: bool) -> Option<Slot> {
+    fn replay(&self, name: &'static str, given: bool) -> Option<&'a Ask> {
         let k = self.next.get();
         let ask = self.order?.0.get(k)?;
         (ask.given == given && std::ptr::eq(ask.name, name)).then(|| {
             self.next.set(k + 1);
-            ask.at
+            ask
         })
+    }
+
+    /// The value of `name` found by its name.
+    #[cold]
+    #[inline(never)]
+    fn search(&self, name: &'static str) -> &Value {
+        self.values.iter().find(|(n, _)| same_name(n, name)).map_or_else(|| self.base.value(name), |(_, v)| v)
+    }
+
+    /// The value answering `name`: replayed from the order, else searched for.
+    #[inline]
+    fn answer(&self, ask: Option<&Ask>, name: &'static str) -> &Value {
+        match ask.and_then(|a| self.at(a.at)) {
+            Some(v) => v,
+            None => self.search(name),
+        }
     }
 
     /// Where `name` is answered: a varied value, else the base entry.
@@ -468,6 +508,22 @@ struct Ask {
     /// A `was_given` question rather than a `value` one.
     given: bool,
     at: Slot,
+    /// The answer, read once, where it cannot vary: the per-hit build then neither matches
+    /// the value's kind nor converts it again.
+    fixed: Fixed,
+}
+
+/// An answer that does not vary, in the type it is asked for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Fixed {
+    /// None kept: read the value at the slot.
+    No,
+    /// A real number.
+    Float(f32),
+    /// An RGB triple.
+    Rgb(Rgb),
+    /// A flag, or the answer to a `was_given` question.
+    Flag(bool),
 }
 
 /// Where an answer lies.
@@ -497,9 +553,19 @@ impl<'a> Recorder<'a> {
     }
 
     fn note(&self, name: &'static str, given: bool) {
-        if let Some(at) = self.varied.slot(name) {
-            self.asks.borrow_mut().push(Ask { name, given, at });
-        }
+        let Some(at) = self.varied.slot(name) else { return };
+        let fixed = match (at, given) {
+            (Slot::Varied(_), true) => Fixed::Flag(true),
+            (Slot::Varied(_), false) => Fixed::No,
+            (Slot::Base(i), true) => Fixed::Flag(self.varied.base.values[i].2),
+            (Slot::Base(i), false) => match &self.varied.base.values[i].1 {
+                v @ Value::Float(_) => Fixed::Float(float_of(name, v)),
+                v @ Value::Rgb(_) => Fixed::Rgb(rgb_of(name, v)),
+                Value::Bool(b) => Fixed::Flag(*b),
+                _ => Fixed::No,
+            },
+        };
+        self.asks.borrow_mut().push(Ask { name, given, at, fixed });
     }
 }
 
@@ -524,18 +590,68 @@ fn same_name(a: &str, b: &str) -> bool {
 
 impl ParamSource for Varied<'_> {
     fn value(&self, name: &'static str) -> &Value {
-        if let Some(v) = self.replay(name, false).and_then(|s| self.at(s)) {
-            return v;
-        }
-        self.values.iter().find(|(n, _)| same_name(n, name)).map_or_else(|| self.base.value(name), |(_, v)| v)
+        self.answer(self.replay(name, false), name)
     }
 
     fn was_given(&self, name: &'static str) -> bool {
         match self.replay(name, true) {
-            Some(Slot::Varied(_)) => true,
-            Some(Slot::Base(i)) => self.base.values[i].2,
-            None => self.values.iter().any(|(n, _)| same_name(n, name)) || self.base.was_given(name),
+            Some(&Ask { fixed: Fixed::Flag(b), .. }) => b,
+            _ => self.given_slow(name),
         }
+    }
+
+    // The typed questions answer a fixed value at once; the rest (a varied value, or a
+    // question asked out of the recorded order) go the slow way, kept out of line so that
+    // the fast one needs no stack frame.
+    fn float(&self, name: &'static str) -> f32 {
+        match self.replay(name, false) {
+            Some(&Ask { fixed: Fixed::Float(v), .. }) => v,
+            ask => match self.varied(ask) {
+                Some(&Value::Float(v)) => v as f32,
+                _ => self.slow(ask, name, float_of),
+            },
+        }
+    }
+
+    fn rgb(&self, name: &'static str) -> Rgb {
+        match self.replay(name, false) {
+            Some(&Ask { fixed: Fixed::Rgb(v), .. }) => v,
+            ask => match self.varied(ask) {
+                Some(&Value::Rgb([r, g, b])) => Rgb::new(r as f32, g as f32, b as f32),
+                _ => self.slow(ask, name, rgb_of),
+            },
+        }
+    }
+
+    fn flag(&self, name: &'static str) -> bool {
+        match self.replay(name, false) {
+            Some(&Ask { fixed: Fixed::Flag(b), .. }) => b,
+            ask => self.slow(ask, name, flag_of),
+        }
+    }
+}
+
+impl Varied<'_> {
+    /// The varied value a replayed question reads.
+    #[inline]
+    fn varied(&self, ask: Option<&Ask>) -> Option<&Value> {
+        match ask {
+            Some(&Ask { at: Slot::Varied(k), .. }) => self.values.get(k).map(|v| &v.1),
+            _ => None,
+        }
+    }
+
+    /// `was_given` by name.
+    #[cold]
+    #[inline(never)]
+    fn given_slow(&self, name: &'static str) -> bool {
+        self.values.iter().any(|(n, _)| same_name(n, name)) || self.base.was_given(name)
+    }
+
+    /// The answer to `name` read from its value with `read`.
+    #[inline(never)]
+    fn slow<T>(&self, ask: Option<&Ask>, name: &'static str, read: fn(&str, &Value) -> T) -> T {
+        read(name, self.answer(ask, name))
     }
 }
 
@@ -602,15 +718,23 @@ mod tests {
     fn recorded_questions_are_answered_as_by_name() {
         let s = specs();
         let p = Params::from_values("m", &s, &[("ke", Value::Float(5.0))]).unwrap();
+        // Each name by its value, by its typed accessor (the answer kept typed, or read from
+        // a varied value) and by whether it was given.
+        let typed = |q: &dyn ParamSource, n: &'static str| match n {
+            "ke" => q.float(n).to_string(),
+            "ks" => format!("{:?}", q.rgb(n)),
+            "fresnel" => q.choice(n).to_string(),
+            _ => q.flag(n).to_string(),
+        };
         let ask = |q: &dyn ParamSource, order: &[&'static str]| -> Vec<String> {
-            order.iter().map(|&n| format!("{:?} {}", q.value(n), q.was_given(n))).collect()
+            order.iter().map(|&n| format!("{:?} {} {}", q.value(n), typed(q, n), q.was_given(n))).collect()
         };
         let first = [("ks", Value::Rgb([0.1, 0.2, 0.3]))];
         let recorder = Recorder::new(&p, &first);
         let names = ["ke", "ks", "fresnel", "anisotropic"];
         ask(&recorder, &names);
         let order = recorder.order();
-        assert_eq!(order.0.len(), 2 * names.len());
+        assert_eq!(order.0.len(), 3 * names.len());
         let here = [("ks", Value::Rgb([0.7, 0.8, 0.9]))];
         // A name equal in text but at another address is found by the search.
         let copied: &'static str = Box::leak(String::from("ks").into_boxed_str());
@@ -618,6 +742,12 @@ mod tests {
             let by_name = ask(&Varied::new(&p, &here), asked);
             assert_eq!(ask(&Varied::new(&p, &here).with_order(&order), asked), by_name, "{asked:?}");
         }
-        assert_eq!(ask(&Varied::new(&p, &here).with_order(&order), &names)[1], "Rgb([0.7, 0.8, 0.9]) true");
+        let replayed = ask(&Varied::new(&p, &here).with_order(&order), &names);
+        assert_eq!(replayed[0], "Float(5.0) 5 true");
+        assert!(
+            replayed[1].starts_with("Rgb([0.7, 0.8, 0.9]) Rgb([0.7") && replayed[1].ends_with("true"),
+            "{}",
+            replayed[1]
+        );
     }
 }
