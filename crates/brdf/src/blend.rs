@@ -34,6 +34,13 @@ impl<A: Brdf, B: Brdf> Brdf for Blend<A, B> {
         (1.0 - self.weight) * self.first.pdf(wi, wo) + self.weight * self.second.pdf(wi, wo)
     }
 
+    /// Each nested model's own `eval_pdf`, mixed as `eval` and `pdf` mix them.
+    fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
+        let ((r1, p1), (r2, p2)) = (self.first.eval_pdf(wi, wo), self.second.eval_pdf(wi, wo));
+        let w = self.weight;
+        (r1 * (1.0 - w) + r2 * w, (1.0 - w) * p1 + w * p2)
+    }
+
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample> {
         let w = self.weight;
         let (second, p_k, uc) = if w >= 1.0 || (w > 0.0 && uc <= w) {

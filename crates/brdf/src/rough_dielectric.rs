@@ -99,6 +99,40 @@ impl RoughDielectric {
         Some(Geometry { m, eta_t, reflect, wo_m, wi_m })
     }
 
+    /// ρ given the facet geometry, D(m), G1(wo, m) and F(wo·m).
+    #[inline]
+    fn value(&self, wi: Vec3, wo: Vec3, g: &Geometry, d: f32, g1_o: f32, f: f32) -> Rgb {
+        let shadow = self.g1(wi, g.m) * g1_o;
+        let cos = (wi.z * wo.z).abs();
+        let value = if g.reflect {
+            self.reflectance * (f * d * shadow / (4.0 * cos))
+        } else {
+            let denom = g.wo_m + g.eta_t * g.wi_m;
+            self.transmittance * ((1.0 - f) * d * shadow * (g.wi_m * g.wo_m).abs() / (cos * denom * denom))
+        };
+        if value.is_finite() {
+            value
+        } else {
+            Rgb::ZERO
+        }
+    }
+
+    /// The sampling density given the facet geometry, D_wo(m) and F(wo·m).
+    #[inline]
+    fn density(&self, g: &Geometry, pm: f32, f: f32) -> f32 {
+        let p = if g.reflect {
+            pm * f / (4.0 * g.wi_m.abs())
+        } else {
+            let denom = g.wo_m + g.eta_t * g.wi_m;
+            pm * (1.0 - f) * g.eta_t * g.eta_t * g.wi_m.abs() / (denom * denom)
+        };
+        if p.is_finite() {
+            p
+        } else {
+            0.0
+        }
+    }
+
     /// D_wo(m): the density of `sample_visible` seen from `wo`'s side.
     #[inline]
     fn visible_pdf(&self, wo: Vec3, m: Vec3) -> f32 {
@@ -114,37 +148,28 @@ impl Brdf for RoughDielectric {
     fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
         let Some(g) = self.geometry(wi, wo) else { return Rgb::ZERO };
         let d = self.distribution.d(g.m);
-        let shadow = self.g1(wi, g.m) * self.g1(wo, g.m);
         let f = fresnel::dielectric(g.wo_m, self.eta);
-        let cos = (wi.z * wo.z).abs();
-        let value = if g.reflect {
-            self.reflectance * (f * d * shadow / (4.0 * cos))
-        } else {
-            let denom = g.wo_m + g.eta_t * g.wi_m;
-            self.transmittance * ((1.0 - f) * d * shadow * (g.wi_m * g.wo_m).abs() / (cos * denom * denom))
-        };
-        if value.is_finite() {
-            value
-        } else {
-            Rgb::ZERO
-        }
+        self.value(wi, wo, &g, d, self.g1(wo, g.m), f)
     }
 
     fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
         let Some(g) = self.geometry(wi, wo) else { return 0.0 };
         let pm = self.visible_pdf(wo, g.m);
+        self.density(&g, pm, fresnel::dielectric(g.wo_m, self.eta))
+    }
+
+    /// Sharing the facet normal, D(m), G1(wo) and F: bit for bit what each returns.
+    fn eval_pdf(&self, wi: Vec3, wo: Vec3) -> (Rgb, f32) {
+        let Some(g) = self.geometry(wi, wo) else { return (Rgb::ZERO, 0.0) };
+        let d = self.distribution.d(g.m);
         let f = fresnel::dielectric(g.wo_m, self.eta);
-        let p = if g.reflect {
-            pm * f / (4.0 * g.wi_m.abs())
-        } else {
-            let denom = g.wo_m + g.eta_t * g.wi_m;
-            pm * (1.0 - f) * g.eta_t * g.eta_t * g.wi_m.abs() / (denom * denom)
-        };
-        if p.is_finite() {
-            p
-        } else {
-            0.0
-        }
+        // `geometry` has checked that wo sees m from its own side: G1(wo, m) is the
+        // distribution's G1 of wo's upper copy, the factor `visible_pdf` starts from.
+        let up = if wo.z < 0.0 { -wo } else { wo };
+        let g1_o = self.distribution.g1(up);
+        let up_m = up.dot(g.m);
+        let pm = if up_m <= 0.0 { 0.0 } else { g1_o * up_m * d / up.z };
+        (self.value(wi, wo, &g, d, g1_o, f), self.density(&g, pm, f))
     }
 
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BrdfSample> {
