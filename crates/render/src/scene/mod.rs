@@ -292,7 +292,7 @@ impl Scene {
         &self.bvh
     }
 
-    #[inline]
+    #[inline(always)]
     fn intersect_prim(&self, k: usize, o: Vec3, d: Vec3, t_max: f32) -> Option<f32> {
         let (s, i) = self.refs[k];
         match &self.shapes[s as usize].geometry {
