@@ -39,7 +39,7 @@
 use crate::dielectric::{eta_from_params, eta_seen_from, interface_params};
 use crate::fresnel;
 use crate::fresnel::Fresnel;
-use crate::microfacet::{Distribution, Ndf};
+use crate::microfacet::{visible_density, Distribution, Ndf};
 use crate::model::{refract, Brdf, BrdfSample, Claims};
 use crate::params::{ParamError, ParamSource, ParamSpec};
 use crate::registry::{by_value, ModelSpec};
@@ -168,7 +168,7 @@ impl Brdf for RoughDielectric {
         let up = if wo.z < 0.0 { -wo } else { wo };
         let g1_o = self.distribution.g1(up);
         let up_m = up.dot(g.m);
-        let pm = if up_m <= 0.0 { 0.0 } else { g1_o * up_m * d / up.z };
+        let pm = if up_m <= 0.0 { 0.0 } else { visible_density(g1_o, up_m, d, up.z) };
         (self.value(wi, wo, &g, d, g1_o, f), self.density(&g, pm, f))
     }
 

@@ -131,8 +131,15 @@ pub trait Ndf {
         if cos_o <= 0.0 || wo_h <= 0.0 {
             return 0.0;
         }
-        self.g1(wo) * wo_h * self.d(h) / cos_o
+        visible_density(self.g1(wo), wo_h, self.d(h), cos_o)
     }
+}
+
+/// D_wo(h) = G1(wo) (wo·h) D(h) / cos θo from its factors (wo·h > 0, cos θo > 0): what
+/// [`Ndf::pdf_visible`] returns, for a model that already has G1(wo) and D(h).
+#[inline]
+pub fn visible_density(g1_wo: f32, wo_h: f32, d: f32, cos_o: f32) -> f32 {
+    g1_wo * wo_h * d / cos_o
 }
 
 /// A distribution chosen at run time: Beckmann or GGX.
