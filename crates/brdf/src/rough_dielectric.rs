@@ -68,6 +68,17 @@ struct Geometry {
     wi_m: f32,
 }
 
+/// `v` turned into the upper hemisphere: facet normals live there, and the distribution's
+/// terms are asked of the upper copy of a direction below the surface.
+#[inline]
+fn upper(v: Vec3) -> Vec3 {
+    if v.z < 0.0 {
+        -v
+    } else {
+        v
+    }
+}
+
 impl RoughDielectric {
     /// Smith masking of `v` by facet `m`: zero unless `v` sees `m` from its own side.
     #[inline]
@@ -76,7 +87,7 @@ impl RoughDielectric {
             return 0.0;
         }
         // Λ depends on z² only; the distribution wants the upper-hemisphere copy.
-        self.distribution.g1(if v.z < 0.0 { -v } else { v })
+        self.distribution.g1(upper(v))
     }
 
     /// The facet normal joining `wi` and `wo`; None where no facet can (grazing directions,
@@ -91,7 +102,7 @@ impl RoughDielectric {
         let eta_t = if reflect { 1.0 } else { eta_seen_from(self.eta, cos_o) };
         let h = wo + wi * eta_t;
         let m = h.try_normalize()?;
-        let m = if m.z < 0.0 { -m } else { m };
+        let m = upper(m);
         let (wo_m, wi_m) = (wo.dot(m), wi.dot(m));
         if m.z <= 0.0 || wo_m * cos_o <= 0.0 || wi_m * cos_i <= 0.0 {
             return None;
@@ -136,7 +147,7 @@ impl RoughDielectric {
     /// D_wo(m): the density of `sample_visible` seen from `wo`'s side.
     #[inline]
     fn visible_pdf(&self, wo: Vec3, m: Vec3) -> f32 {
-        self.distribution.pdf_visible(if wo.z < 0.0 { -wo } else { wo }, m)
+        self.distribution.pdf_visible(upper(wo), m)
     }
 }
 
@@ -165,7 +176,7 @@ impl Brdf for RoughDielectric {
         let f = fresnel::dielectric(g.wo_m, self.eta);
         // `geometry` has checked that wo sees m from its own side: G1(wo, m) is the
         // distribution's G1 of wo's upper copy, the factor `visible_pdf` starts from.
-        let up = if wo.z < 0.0 { -wo } else { wo };
+        let up = upper(wo);
         let g1_o = self.distribution.g1(up);
         let up_m = up.dot(g.m);
         let pm = if up_m <= 0.0 { 0.0 } else { visible_density(g1_o, up_m, d, up.z) };
@@ -177,7 +188,7 @@ impl Brdf for RoughDielectric {
         if cos_o == 0.0 || !cos_o.is_finite() {
             return None;
         }
-        let up = if cos_o < 0.0 { -wo } else { wo };
+        let up = upper(wo);
         let m = self.distribution.sample_visible(up, u);
         let pm = self.distribution.pdf_visible(up, m);
         let wo_m = wo.dot(m);
