@@ -2,9 +2,10 @@
 //! collapsed to nodes of up to eight children, each time opening the child of largest
 //! surface area (Wald, Benthin & Boulos, "Getting rid of packets", 2008; Dammertz et al.,
 //! "Shallow bounding volume hierarchies for fast SIMD ray tracing of incoherent rays", 2008).
-//! A node holds its children's boxes in SIMD lanes, so a ray meets all eight at once; closest-hit
-//! traversal goes nearest child first and skips boxes entered beyond the best hit, any-hit
-//! traversal stops at the first hit.
+//! A node holds its children's boxes in SIMD lanes, so a ray meets all eight at once. Both
+//! traversals go nearest child first; closest-hit skips boxes entered beyond the best hit,
+//! any-hit stops at the first hit (nearest first there too: textures.xml 0.9 % faster than in
+//! node order).
 //!
 //! Leaves are runs of *packs*: groups of up to [`PACK`] (sixteen) consecutive primitives (in
 //! BVH order) that callers test together, e.g. as a [`Tri16`]. The hierarchy knows only boxes.
@@ -183,10 +184,9 @@ impl Bvh {
         self.walk::<true, false>(ray, &mut t_max, &mut |packs: Range<usize>, _: &mut f32| leaf(packs))
     }
 
-    /// The traversal, calling `leaf` at the leaves reached. `ANY`: children in node order, no
+    /// The traversal, nearest child first, calling `leaf` at the leaves reached. `ANY`: no
     /// distance checks on popping, and the walk ends (returning true) when `leaf` says
-    /// [`Visit::Stop`]; otherwise nearest child first, and popped boxes entered at or beyond
-    /// `t_max` skipped.
+    /// [`Visit::Stop`]; otherwise popped boxes entered at or beyond `t_max` are skipped.
     #[inline(always)]
     pub fn walk<const ANY: bool, const AVX: bool>(&self, ray: &Ray, t_max: &mut f32, leaf: &mut impl Leaf) -> bool {
         if self.order.is_empty() {
@@ -218,16 +218,6 @@ impl Bvh {
                     mask &= mask - 1;
                     if mask == 0 {
                         cur = n.child[first];
-                        continue;
-                    }
-                    if ANY {
-                        cur = n.child[first];
-                        while mask != 0 {
-                            let i = mask.trailing_zeros() as usize;
-                            mask &= mask - 1;
-                            stack[sp] = (n.child[i], 0.0);
-                            sp += 1;
-                        }
                         continue;
                     }
                     if mask & (mask - 1) == 0 {
