@@ -108,7 +108,7 @@ impl SplatFilm {
             height: self.height,
             reach: self.reach,
             cells: vec![[0.0; 4]; (2 * self.reach + 1) * self.width],
-            wx: Vec::with_capacity(2 * self.reach + 2),
+            wx: vec![0.0; 2 * self.reach + 2],
         }
     }
 
@@ -191,8 +191,11 @@ impl RowSplats {
         if x0 > x1 || y0 > y1 {
             return;
         }
-        self.wx.clear();
-        self.wx.extend((x0..=x1).map(|i| self.table.eval((i as f64 - px) as f32) as f64));
+        // x1 − x0 < 2r + 1 ≤ 2·reach + 2 columns: the scratch is long enough.
+        let wxs = &mut self.wx[..(x1 - x0 + 1) as usize];
+        for (i, w) in (x0..).zip(wxs.iter_mut()) {
+            *w = self.table.eval((i as f64 - px) as f32) as f64;
+        }
         // Σ f·L and Σ f of a cell as one four-lane sum (f·1 = f exactly).
         let l = [l.0[0] as f64, l.0[1] as f64, l.0[2] as f64, 1.0];
         for j in y0..=y1 {
@@ -202,7 +205,7 @@ impl RowSplats {
             }
             let row = (j - y + reach) as usize * self.width;
             let cells = &mut self.cells[row + x0 as usize..=row + x1 as usize];
-            for (c, &wx) in cells.iter_mut().zip(&self.wx) {
+            for (c, &wx) in cells.iter_mut().zip(&*wxs) {
                 let f = wx * wy;
                 for (c, l) in c.iter_mut().zip(l) {
                     *c += f * l;
