@@ -241,11 +241,15 @@ impl Camera {
         let near = s(self.near_clip) * len;
         let o = [0, 1, 2].map(|a| s(m.w_axis[a]) + d[a] * near);
         let t_max = s(depth) * len;
-        std::array::from_fn(|i| Ray {
-            o: Vec3::new(o[0].0[i], o[1].0[i], o[2].0[i]),
-            d: Vec3::new(d[0].0[i], d[1].0[i], d[2].0[i]),
-            t_max: t_max.0[i],
-        })
+        let mut rays = [Ray { o: Vec3::ZERO, d: Vec3::Z, t_max: 0.0 }; LANES];
+        for (i, r) in rays.iter_mut().enumerate() {
+            *r = Ray {
+                o: Vec3::new(o[0].0[i], o[1].0[i], o[2].0[i]),
+                d: Vec3::new(d[0].0[i], d[1].0[i], d[2].0[i]),
+                t_max: t_max.0[i],
+            };
+        }
+        rays
     }
 
     /// The camera position in world space.

@@ -112,12 +112,12 @@ impl EnvMap {
             let (ci, cj, f) = self.cell(direction_to_uv(Vec3::new(x[k], y[k], z[k])));
             (i[k], j[k], fx[k], fy[k]) = (ci, cj, f.x, f.y);
         }
-        std::array::from_fn(|k| EnvLookup {
-            m: Vec3::new(x[k], y[k], z[k]),
-            i: i[k],
-            j: j[k],
-            f: Vec2::new(fx[k], fy[k]),
-        })
+        // A loop over a filled array, not `array::from_fn`, which was left a call per packet.
+        let mut out = [EnvLookup { m: Vec3::ZERO, i: 0, j: 0, f: Vec2::ZERO }; LANES];
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = EnvLookup { m: Vec3::new(x[k], y[k], z[k]), i: i[k], j: j[k], f: Vec2::new(fx[k], fy[k]) };
+        }
+        out
     }
 }
 
