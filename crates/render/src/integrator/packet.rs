@@ -209,6 +209,7 @@ fn trace_together(
         });
         for_bits(alive, |i| hits[i].map_or((), |(k, _)| scene.prefetch_indices(k)));
         for_bits(alive, |i| hits[i].map_or((), |(k, _)| scene.prefetch_vertices(k)));
+        for_bits(alive, |i| paths[i].reached(hits[i].is_some(), &mut samplers[i], scene, max_depth));
         for_bits(alive, |i| at[i] = hits[i].map(|(k, t)| scene.interaction(&paths[i].ray, k, t)));
         if map {
             presample_environment(scene, &mut paths, &at, alive, max_depth);

@@ -132,6 +132,7 @@ pub(super) fn trace(
     while path.step(scene, hit.as_ref(), sampler, max_depth, rr_depth, hide_emitters, shadow) {
         path.looked = scene.prefetch_environment(path.ray.d);
         hit = scene.intersect(&path.ray);
+        path.reached(hit.is_some(), sampler, scene, max_depth);
     }
     path.result
 }
@@ -151,10 +152,12 @@ pub(super) struct PathState {
     scattered: bool,
     /// The ray to the next vertex.
     pub ray: Ray,
-    /// The next vertex's numbers, drawn before its ray's query, so that the light sample's
-    /// first table read can start loading meanwhile. The draws keep their order (a vertex's,
-    /// then its Russian roulette), and numbers drawn for a vertex the path never reaches go
-    /// unused: the stream is the sample's own, so the image does not change.
+    /// The next vertex's numbers, drawn once its ray has found it ([`reached`](Self::reached)),
+    /// so that the light sample's first table read loads while the hit points are computed.
+    /// The draws keep their order (a vertex's, then its Russian roulette). None are drawn for a
+    /// ray that escapes or a vertex where the path ends before sampling: the stream is the
+    /// sample's own, and nothing would be drawn from it after them, so the image is the same as
+    /// where they are drawn (the sixteen-lane tracer draws them ahead for every lane).
     numbers: VertexNumbers,
     /// Where the ray's direction falls on an environment map, once asked (bounce rays).
     pub looked: Option<EnvLookup>,
@@ -195,7 +198,8 @@ impl PathState {
 
     /// The vertex where the ray meets `hit`, or escapes (None): adds what is found there, hands
     /// the light samples' shadow tests to `shadow`, and returns whether the path goes on; it
-    /// then has its next ray and that vertex's numbers. `max_depth` is at least 1.
+    /// then has its next ray, and [`reached`](Self::reached) draws that vertex's numbers once the ray has
+    /// found it. `max_depth` is at least 1.
     // Values are borrowed rather than moved where they were just written field by field (the
     // hit, the light sample, the next step): moved, they were copied with wide loads that
     // waited on the narrow stores (perf).
@@ -317,10 +321,15 @@ impl PathState {
             }
             self.beta = self.beta / q;
         }
-        if self.beta.max_channel() <= 0.0 {
-            return false;
+        self.beta.max_channel() > 0.0
+    }
+
+    /// Draws the numbers of the vertex the ray has found, where the path samples there: `hit`
+    /// when it found one (see [`numbers`](Self::numbers)).
+    #[inline(always)]
+    pub(super) fn reached(&mut self, hit: bool, sampler: &mut Sampler, scene: &Scene, max_depth: u32) {
+        if hit && !self.at_last_vertex(max_depth) {
+            self.numbers = VertexNumbers::draw(sampler, scene);
         }
-        self.numbers = VertexNumbers::draw(sampler, scene);
-        true
     }
 }
