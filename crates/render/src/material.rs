@@ -184,19 +184,16 @@ impl Material {
         }
     }
 
-    /// The model at hit `si`, handed to `f`; what `f` returns.
+    /// The model at hit `si`, handed to `f` (once); what `f` returns.
     #[inline]
-    pub fn with<R>(&self, si: &SurfaceInteraction, f: impl FnOnce(&dyn Brdf) -> R) -> R {
+    pub fn with<R>(&self, si: &SurfaceInteraction, mut f: impl FnMut(&dyn Brdf) -> R) -> R {
         if let Material::Fixed(b) = self {
             return f(&**b);
         }
-        let mut f = Some(f);
+        // `f` borrowed, not moved into an Option: the move copied its captures with wide loads
+        // that waited on the narrow stores just made (perf, at every textured hit).
         let mut out = None;
-        self.visit(si, &mut |b| {
-            if let Some(f) = f.take() {
-                out = Some(f(b));
-            }
-        });
+        self.visit(si, &mut |b| out = Some(f(b)));
         out.expect("every material hands its model to the continuation")
     }
 
