@@ -179,8 +179,11 @@ fn trace_together(
     let mut at: [Option<SurfaceInteraction>; LANES] = [None; LANES];
     for_bits(lanes, |i| {
         paths[i] = PathState::new(rays[i], path::VertexNumbers::draw(&mut samplers[i], scene));
-        let hit = hits[i].map(|(k, t)| scene.interaction(&rays[i], k, t));
-        at[i] = path::past_hidden(scene, rays[i], hit, hide_emitters);
+        at[i] = hits[i].map(|(k, t)| scene.interaction(&rays[i], k, t));
+        // Written in place, not moved through `past_hidden`, where nothing is hidden.
+        if hide_emitters {
+            at[i] = path::past_hidden(scene, rays[i], at[i], true);
+        }
     });
     let map = scene.environment_map().is_some();
     if map {
