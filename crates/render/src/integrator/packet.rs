@@ -199,17 +199,20 @@ fn trace_together(
             next |= (on as u32) << i;
         });
         alive = next;
-        if map {
-            let looked = scene.prefetch_environment_packet(&paths.each_ref().map(|p| p.ray.d), alive, scene.simd());
-            for_bits(alive, |i| paths[i].looked = looked[i]);
-        }
         let mut hits = [None; LANES];
+        let mut escaped = 0;
         for_bits(alive, |i| {
             hits[i] = scene.intersect_t(&paths[i].ray);
-            if let Some((k, _)) = hits[i] {
-                scene.prefetch_primitive(k);
+            match hits[i] {
+                Some((k, _)) => scene.prefetch_primitive(k),
+                None => escaped |= 1 << i,
             }
         });
+        // Where the rays that escaped fall on the map, for their lookups in the next step.
+        if map && escaped != 0 {
+            let looked = scene.prefetch_environment_packet(&paths.each_ref().map(|p| p.ray.d), escaped, scene.simd());
+            for_bits(escaped, |i| paths[i].looked = looked[i]);
+        }
         for_bits(alive, |i| hits[i].map_or((), |(k, _)| scene.prefetch_indices(k)));
         for_bits(alive, |i| hits[i].map_or((), |(k, _)| scene.prefetch_vertices(k)));
         for_bits(alive, |i| paths[i].reached(hits[i].is_some(), &mut samplers[i], scene, max_depth));
