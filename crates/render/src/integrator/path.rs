@@ -198,8 +198,8 @@ impl PathState {
 
     /// The vertex where the ray meets `hit`, or escapes (None): adds what is found there, hands
     /// the light samples' shadow tests to `shadow`, and returns whether the path goes on; it
-    /// then has its next ray, and [`reached`](Self::reached) draws that vertex's numbers once the ray has
-    /// found it. `max_depth` is at least 1.
+    /// then has its next ray, and [`reached`](Self::reached) draws that vertex's numbers once
+    /// the ray has found it. `max_depth` is at least 1.
     // Values are borrowed rather than moved where they were just written field by field (the
     // hit, the light sample, the next step): moved, they were copied with wide loads that
     // waited on the narrow stores (perf).
