@@ -241,7 +241,7 @@ impl Camera {
         let near = s(self.near_clip) * len;
         let o = [0, 1, 2].map(|a| s(m.w_axis[a]) + d[a] * near);
         let t_max = s(depth) * len;
-        let mut rays = [Ray { o: Vec3::ZERO, d: Vec3::Z, t_max: 0.0 }; LANES];
+        let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); LANES];
         for (i, r) in rays.iter_mut().enumerate() {
             *r = Ray {
                 o: Vec3::new(o[0].0[i], o[1].0[i], o[2].0[i]),

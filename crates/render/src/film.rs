@@ -191,7 +191,7 @@ impl RowSplats {
         if x0 > x1 || y0 > y1 {
             return;
         }
-        // x1 − x0 < 2r + 1 ≤ 2·reach + 2 columns: the scratch is long enough.
+        // At most ⌊2r⌋ + 1 ≤ 2·reach + 1 columns (reach = ⌊r + ½⌋): the scratch holds them.
         let wxs = &mut self.wx[..(x1 - x0 + 1) as usize];
         for (i, w) in (x0..).zip(wxs.iter_mut()) {
             *w = self.table.eval((i as f64 - px) as f32) as f64;
