@@ -184,6 +184,32 @@ impl Material {
         }
     }
 
+    /// Starts loading the texels that the model at `uv` is built from: a hint, which changes
+    /// no result; asked for early, their cache misses overlap other work.
+    pub fn prefetch(&self, uv: glam::Vec2) {
+        match self {
+            Material::Fixed(_) => {}
+            Material::Textured(t) => t.textures.iter().for_each(|(_, tex)| tex.prefetch(uv)),
+            Material::TwoSided(front, back) => {
+                front.prefetch(uv);
+                back.prefetch(uv);
+            }
+            Material::Mask { opacity, nested } => {
+                opacity.prefetch(uv);
+                nested.prefetch(uv);
+            }
+            Material::Blend { weight, first, second } => {
+                weight.prefetch(uv);
+                first.prefetch(uv);
+                second.prefetch(uv);
+            }
+            Material::NormalMap { map: t, nested, .. } | Material::BumpMap { height: t, nested, .. } => {
+                t.prefetch(uv);
+                nested.prefetch(uv);
+            }
+        }
+    }
+
     /// The model at hit `si`, handed to `f` (once); what `f` returns.
     #[inline]
     pub fn with<R>(&self, si: &SurfaceInteraction, mut f: impl FnMut(&dyn Brdf) -> R) -> R {

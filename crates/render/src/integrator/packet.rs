@@ -163,8 +163,9 @@ impl Integrator {
 /// cell's corners and texels too, before the queries, cost more than it saved: that work is
 /// wasted on the paths that escape, and the packet's sampling reads them soon enough.)
 /// The surface data of the hits are read in passes over the lanes, each starting the loads
-/// the next depends on (the hit's reference, its corners' indices, the corners): the lanes'
-/// cache misses overlap rather than each stalling its own lane.
+/// the next depends on (the hit's reference, its corners' indices, the corners, then the
+/// texels its model is built from): the lanes' cache misses overlap rather than each stalling
+/// its own lane.
 /// A path's first numbers are drawn only for rays that hit something.
 fn trace_together(
     scene: &Scene,
@@ -185,6 +186,7 @@ fn trace_together(
             at[i] = path::past_hidden(scene, rays[i], at[i], true);
         }
     });
+    prefetch_texels(scene, &at, lanes);
     let map = scene.environment_map().is_some();
     if map {
         presample_environment(scene, &mut paths, &at, lanes, max_depth);
@@ -217,11 +219,22 @@ fn trace_together(
         for_bits(alive, |i| hits[i].map_or((), |(k, _)| scene.prefetch_vertices(k)));
         for_bits(alive, |i| paths[i].reached(hits[i].is_some(), &mut samplers[i], scene, max_depth));
         for_bits(alive, |i| at[i] = hits[i].map(|(k, t)| scene.interaction(&paths[i].ray, k, t)));
+        prefetch_texels(scene, &at, alive);
         if map {
             presample_environment(scene, &mut paths, &at, alive, max_depth);
         }
     }
     paths.map(|p| p.result)
+}
+
+/// Starts loading the texels that the models at the hits `at` of lanes `lanes` are built from,
+/// all lanes before any steps, so that each lane's cache misses overlap the steps before it.
+fn prefetch_texels(scene: &Scene, at: &[Option<SurfaceInteraction>; LANES], lanes: u32) {
+    for_bits(lanes, |i| {
+        if let Some(si) = &at[i] {
+            scene.material(si.shape).prefetch(si.uv);
+        }
+    });
 }
 
 /// Draws the environment map's light samples of the next vertices `at` of `paths` in lanes

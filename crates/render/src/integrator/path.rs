@@ -257,8 +257,9 @@ impl PathState {
         }
         // The light is sampled before the model is built, from the reference point the model
         // likely gives (checked below), so that the light sample's table reads and the model's
-        // texel reads can be under way together. (The texels are not prefetched: asking for
-        // them, two rows per lookup, cost more than it saved once paths went in packets.)
+        // texel reads can be under way together. (Packets of paths ask for the texels of all
+        // their lanes before any steps; asked for here, just before the reads, they cost more
+        // than they saved.)
         let material = scene.material(si.shape);
         let guess = scene.transmits_guess(si.shape);
         let guessed = if lights { scene.sample_lights(&reference(si, wo, guess), &ln, true) } else { [None, None] };

@@ -543,13 +543,24 @@ impl DiffuseSurfaces {
                 albedo.set_rgb(i, if on_back[i] { back.rgb(i) } else { front.rgb(i) });
                 uv[i] = si.uv;
             }
+            // The sides' texels are asked for in one pass and read in the next, so that the
+            // lanes' cache misses overlap.
+            let side = |i: usize| {
+                let (a, b) = &self.albedo[shape[i]];
+                if on_back[i] {
+                    b.as_ref().unwrap_or(a)
+                } else {
+                    a
+                }
+            };
             for i in Bits(varying) {
                 if analytic >> i & 1 == 0 {
                     uv[i] = corners.uv(i, bary[i].x, bary[i].y);
                 }
-                let (a, b) = &self.albedo[shape[i]];
-                let side = if on_back[i] { b.as_ref().unwrap_or(a) } else { a };
-                albedo.set_rgb(i, side.at(uv[i]));
+                side(i).prefetch(uv[i]);
+            }
+            for i in Bits(varying) {
+                albedo.set_rgb(i, side(i).at(uv[i]));
             }
             // Emission found by the previous vertex's BRDF sample (or seen by the camera).
             for i in Bits(alive) {

@@ -43,6 +43,14 @@ impl Albedo {
         }
     }
 
+    /// Starts loading the texels that [`at`](Self::at) reads at `uv`: a hint.
+    #[inline]
+    pub fn prefetch(&self, uv: Vec2) {
+        if let Albedo::Textured(m) = self {
+            m.prefetch(uv);
+        }
+    }
+
     /// The constant albedo, or None where it varies.
     #[inline]
     pub fn constant(&self) -> Option<Rgb> {

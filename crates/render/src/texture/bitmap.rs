@@ -252,6 +252,27 @@ impl Bitmap {
         (x0 as i64, y0 as i64, fx - x0, fy - y0)
     }
 
+    /// Starts loading the texels that `eval(uv)` and `eval_1(uv)` read: a hint, which changes
+    /// no result; asked for early, their cache misses overlap other work. The rows are found
+    /// by wrapping uv into [0, 1) in floating point, not by the lookup's exact integer wrap (with
+    /// its two divisions), which costs more than the load it announces: a texel off at an edge
+    /// or under another wrap mode only makes the hint miss.
+    #[inline]
+    pub fn prefetch(&self, uv: Vec2) {
+        let uv = self.options.to_uv.apply(uv);
+        let near = |u: f32, n: usize| (((u - floor(u)) * n as f32) as usize).min(n - 1);
+        let half = 0.5 / self.height as f32;
+        let x = near(uv.x, self.width);
+        // The two rows of the bilinear footprint (a nearest lookup reads one of these texels).
+        for y in [near(uv.y - half, self.height), near(uv.y + half, self.height)] {
+            let k = (y * self.width + x) * self.channels;
+            match &self.texels {
+                Texels::Bytes(b, _) => radiometry::prefetch::prefetch(&b[k]),
+                Texels::Floats(f) => radiometry::prefetch::prefetch(&f[k]),
+            }
+        }
+    }
+
     /// The RGB value at `uv` (before `to_uv`).
     pub fn eval(&self, uv: Vec2) -> Rgb {
         let uv = self.options.to_uv.apply(uv);
@@ -494,5 +515,22 @@ mod tests {
         assert!(close(one.eval(Vec2::new(0.7, 0.1)), [0.2, 0.4, 0.6]));
         assert!(Bitmap::from_floats(0, 3, 1, vec![], BitmapOptions::default()).is_err());
         assert!(Bitmap::from_floats(2, 2, 3, vec![0.0; 5], BitmapOptions::default()).is_err());
+    }
+
+    #[test]
+    fn prefetch_stays_inside_the_image_at_any_uv() {
+        // The hint indexes the texels itself: a uv far outside, infinite or NaN must still
+        // name a texel of the image (an index past the end panics).
+        let odd = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1e30, -1e30, -0.0, 1.0, 0.99999994, -1e-8, 2.5];
+        let floats = Bitmap::from_floats(3, 5, 3, vec![0.5; 45], BitmapOptions::default()).unwrap();
+        for w in [WrapMode::Repeat, WrapMode::Clamp, WrapMode::Mirror] {
+            for b in [t32(FilterType::Bilinear, w, false), t32(FilterType::Nearest, w, true), floats.clone()] {
+                for u in odd {
+                    for v in odd {
+                        b.prefetch(Vec2::new(u, v));
+                    }
+                }
+            }
+        }
     }
 }

@@ -61,6 +61,14 @@ pub enum Texture {
 }
 
 impl Texture {
+    /// Starts loading what a lookup at `uv` reads (an image's texels): a hint.
+    #[inline]
+    pub fn prefetch(&self, uv: Vec2) {
+        if let Texture::Bitmap(b) = self {
+            b.prefetch(uv);
+        }
+    }
+
     /// The RGB value at `uv`.
     #[inline]
     pub fn eval(&self, uv: Vec2) -> Rgb {
