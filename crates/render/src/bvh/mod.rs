@@ -2,10 +2,12 @@
 //! collapsed to nodes of up to eight children, each time opening the child of largest
 //! surface area (Wald, Benthin & Boulos, "Getting rid of packets", 2008; Dammertz et al.,
 //! "Shallow bounding volume hierarchies for fast SIMD ray tracing of incoherent rays", 2008).
-//! A node holds its children's boxes in SIMD lanes, so a ray meets all eight at once. Both
-//! traversals go nearest child first; closest-hit skips boxes entered beyond the best hit,
-//! any-hit stops at the first hit (nearest first there too: textures.xml 0.9 % faster than in
-//! node order).
+//! A node holds its children's boxes in SIMD lanes, so a ray meets all eight at once.
+//! Closest-hit goes nearest child first and skips boxes entered beyond the best hit. Any-hit
+//! stops at the first hit and takes the children in lane order, unsorted: a shadow ray leaves a
+//! surface, so the nearest boxes are those around its origin, which seldom hold what blocks it
+//! (matpreview's shadow rays: a blocked ray visited 9.3 nodes nearest first, against 10.6 for
+//! its closest hit; in lane order blocked rays are 22 % faster, all 13 % faster).
 //!
 //! Leaves are runs of *packs*: groups of up to [`PACK`] (sixteen) consecutive primitives (in
 //! BVH order) that callers test together, e.g. as a [`Tri16`]. The hierarchy knows only boxes.
@@ -23,6 +25,7 @@ pub(crate) use wide::{Node, RayBox, WIDTH as NODE_WIDTH};
 
 use crate::ray::Ray;
 use crate::shape::Aabb;
+use crate::simd::Bits;
 use build::{build_binary, BinaryNode, MAX_LEAF};
 use std::ops::Range;
 use wide::{leaf_packs, leaf_ref, LEAF, MAX_LEAF_PACKS, MAX_PACKS, WIDTH};
@@ -184,9 +187,10 @@ impl Bvh {
         self.walk::<true, false>(ray, &mut t_max, &mut |packs: Range<usize>, _: &mut f32| leaf(packs))
     }
 
-    /// The traversal, nearest child first, calling `leaf` at the leaves reached. `ANY`: no
+    /// The traversal, calling `leaf` at the leaves reached. `ANY`: children in lane order, no
     /// distance checks on popping, and the walk ends (returning true) when `leaf` says
-    /// [`Visit::Stop`]; otherwise popped boxes entered at or beyond `t_max` are skipped.
+    /// [`Visit::Stop`]; otherwise nearest child first, and popped boxes entered at or beyond
+    /// `t_max` are skipped.
     #[inline(always)]
     pub fn walk<const ANY: bool, const AVX: bool>(&self, ray: &Ray, t_max: &mut f32, leaf: &mut impl Leaf) -> bool {
         if self.order.is_empty() {
@@ -213,7 +217,17 @@ impl Bvh {
                 let n = &self.nodes[cur as usize];
                 let (t, hit) = r.hit::<AVX>(n, *t_max);
                 let mut mask = hit;
-                if mask != 0 {
+                if ANY {
+                    // The first child in lane order next, the others pushed unsorted.
+                    if mask != 0 {
+                        cur = n.child[mask.trailing_zeros() as usize];
+                        for j in Bits(mask & (mask - 1)) {
+                            stack[sp] = (n.child[j], 0.0);
+                            sp += 1;
+                        }
+                        continue;
+                    }
+                } else if mask != 0 {
                     let first = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
                     if mask == 0 {
