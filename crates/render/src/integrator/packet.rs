@@ -186,7 +186,7 @@ fn trace_together(
             at[i] = path::past_hidden(scene, rays[i], at[i], true);
         }
     });
-    prefetch_texels(scene, &at, lanes);
+    prefetch_texels(scene, &paths, &at, lanes, max_depth);
     let map = scene.environment_map().is_some();
     if map {
         presample_environment(scene, &mut paths, &at, lanes, max_depth);
@@ -219,7 +219,7 @@ fn trace_together(
         for_bits(alive, |i| hits[i].map_or((), |(k, _)| scene.prefetch_vertices(k)));
         for_bits(alive, |i| paths[i].reached(hits[i].is_some(), &mut samplers[i], scene, max_depth));
         for_bits(alive, |i| at[i] = hits[i].map(|(k, t)| scene.interaction(&paths[i].ray, k, t)));
-        prefetch_texels(scene, &at, alive);
+        prefetch_texels(scene, &paths, &at, alive, max_depth);
         if map {
             presample_environment(scene, &mut paths, &at, alive, max_depth);
         }
@@ -227,12 +227,21 @@ fn trace_together(
     paths.map(|p| p.result)
 }
 
-/// Starts loading the texels that the models at the hits `at` of lanes `lanes` are built from,
-/// all lanes before any steps, so that each lane's cache misses overlap the steps before it.
-fn prefetch_texels(scene: &Scene, at: &[Option<SurfaceInteraction>; LANES], lanes: u32) {
+/// Starts loading the texels that the models at the next vertices `at` of `paths` in lanes
+/// `lanes` are built from, all lanes before any steps, so that each lane's cache misses overlap
+/// the steps before it; not where the path escapes or ends at `max_depth` (no model is built).
+fn prefetch_texels(
+    scene: &Scene,
+    paths: &[PathState; LANES],
+    at: &[Option<SurfaceInteraction>; LANES],
+    lanes: u32,
+    max_depth: u32,
+) {
     for_bits(lanes, |i| {
         if let Some(si) = &at[i] {
-            scene.material(si.shape).prefetch(si.uv);
+            if !paths[i].at_last_vertex(max_depth) {
+                scene.material(si.shape).prefetch(si.uv);
+            }
         }
     });
 }
