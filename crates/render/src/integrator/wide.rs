@@ -5,8 +5,12 @@
 //! frame, the area light's sample, the BRDF and the throughput runs in loops over the lanes,
 //! which the compiler turns into vector code; the shadow rays of a step go out as packets.
 //! Spheres, rectangles and disks find their hits lane by lane through the scene, and textured
-//! albedos are looked up lane by lane. Other lights are sampled lane by lane through the scene,
-//! an environment map's directions as one packet, and the directions of the rays about to be
+//! albedos are looked up lane by lane. An environment map, a point light and a directional
+//! light (one of each at most, the map's directions drawn as one packet) are sampled with the
+//! lanes' data in lane arrays, each kind's shadow rays one query of sixteen: 7 to 16 % less
+//! time than sampling them through the scene one lane at a time (diffuse scenes under a map
+//! and a point light, a map and the sun, the point light alone, the map alone; 64 spp). Other
+//! lights are sampled lane by lane through the scene. The directions of the rays about to be
 //! traced fall on the map as one packet too, for the paths that escape (the Cornell box lit by
 //! a map through its open front instead of its lamp, 64 spp: 2.23 → 1.64 s against the packet
 //! path of other scenes, 1.83 → 1.68 s more with the escapes' packet; a 60 000-triangle scene
@@ -23,8 +27,9 @@ use super::packet::ShadowQueue;
 use super::path::VertexNumbers;
 use super::power_heuristic;
 use crate::light::envmap::{EnvDirection, EnvLookup};
+use crate::light::Light;
 use crate::light::RefPoint;
-use crate::ray::{offset_origin, spawn_ray_to, surface_epsilon, Ray};
+use crate::ray::{offset_origin, spawn_ray, spawn_ray_to, surface_epsilon, Ray};
 use crate::sampler::{Sampler, Samplers16};
 use crate::scene::{Albedo, DiffuseSurfaces, LightNumbers, PacketHits, Scene, PACKET_MIN};
 use crate::shape::sphere::solid_angle_pdf;
@@ -296,6 +301,49 @@ fn mirror_if(mirror: bool, w: Vec3) -> Vec3 {
     Vec3::new(w.x, w.y, if mirror { -w.z } else { w.z })
 }
 
+/// The lights that [`DiffuseSurfaces::lights_in_lanes`] samples in lane arrays: an
+/// environment map (sampled beside the choice, or the only light), one point or directional
+/// light (the only one to choose), or both; nothing else.
+struct LaneLights {
+    map: bool,
+    delta: Option<Light>,
+}
+
+impl LaneLights {
+    /// The lights of `scene` when they are of this kind.
+    fn of(scene: &Scene) -> Option<LaneLights> {
+        let (mut map, mut delta) = (false, None);
+        for light in scene.lights() {
+            match light {
+                Light::EnvMap(_) if !map => map = true,
+                Light::Point(_) | Light::Directional(_) if delta.is_none() => delta = Some(light.clone()),
+                _ => return None,
+            }
+        }
+        (map || delta.is_some()).then_some(LaneLights { map, delta })
+    }
+}
+
+/// The environment map's directions for the light numbers of lanes `alive`, drawn as one
+/// packet (None without a map, or where a lane has no numbers for it).
+#[inline(always)]
+fn map_directions(scene: &Scene, numbers: &Numbers, alive: u32) -> [Option<EnvDirection>; N] {
+    if scene.environment_map().is_none() {
+        return [None; N];
+    }
+    let (mut uc, mut u, mut drawn) = ([0.0; N], [Vec2::ZERO; N], 0u32);
+    for i in Bits(alive) {
+        if let Some(n) = scene.environment_numbers(&numbers.light(i, None)) {
+            (uc[i], u[i]) = n;
+            drawn |= 1 << i;
+        }
+    }
+    if drawn == 0 {
+        return [None; N];
+    }
+    scene.presample_environment_packet(&uc, &u, drawn, scene.simd())
+}
+
 /// The mesh of the emitting shape `shape` (an area light of these scenes lies on one).
 #[inline(always)]
 fn light_mesh(scene: &Scene, shape: usize) -> &TriangleMesh {
@@ -321,19 +369,7 @@ impl DiffuseSurfaces {
         (albedo, beta, on_back): (&V3, &V3, &[bool; N]),
         queue: &mut ShadowQueue,
     ) {
-        let mut env = [None; N];
-        if scene.environment_map().is_some() {
-            let (mut uc, mut u, mut drawn) = ([0.0; N], [Vec2::ZERO; N], 0u32);
-            for i in Bits(alive) {
-                if let Some(n) = scene.environment_numbers(&numbers.light(i, None)) {
-                    (uc[i], u[i]) = n;
-                    drawn |= 1 << i;
-                }
-            }
-            if drawn != 0 {
-                env = scene.presample_environment_packet(&uc, &u, drawn, scene.simd());
-            }
-        }
+        let env = map_directions(scene, numbers, alive);
         for i in Bits(alive) {
             let (pi, fr, wol) = (p.get(i), frame.get(i), wo.get(i));
             let r = RefPoint { p: pi, n: Some(fr.n * wol.z.signum()) };
@@ -350,6 +386,103 @@ impl DiffuseSurfaces {
             }
         }
         queue.flush();
+    }
+
+    /// Next-event estimation where the lights are an environment map, a point or directional
+    /// light, or both (see [`LaneLights`]), from the lanes' data in lane arrays: each lane's
+    /// light samples as `path` draws them (the delta light's, then the map's), their
+    /// contributions and shadow rays, one query of sixteen for each kind (a packet where its
+    /// rays are coherent, as a point light's from nearby points are). Each lane adds its
+    /// visible contributions to its sum in `lit` in the order `path` adds them, so its
+    /// estimate is the same.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn lights_in_lanes(
+        &self,
+        scene: &Scene,
+        lights: &LaneLights,
+        numbers: &Numbers,
+        alive: u32,
+        (p, ng, wo, frame): (&V3, &V3, &V3, &Frames),
+        (albedo, beta, on_back): (&V3, &V3, &[bool; N]),
+        lit: &mut [Rgb; N],
+    ) {
+        let env = if lights.map { map_directions(scene, numbers, alive) } else { [None; N] };
+        // Per lane, what a sample of direction `wi` (world), radiance `li` and density `pdf`
+        // adds where it is seen (the light is not behind the surface and the model reflects
+        // it), as `lights_by_lane` computes it.
+        let contribution = |i: usize, wi: Vec3, li: Rgb, pdf: f32, delta: bool| {
+            let (fr, wol) = (frame.get(i), wo.get(i));
+            let wil = fr.to_local(wi);
+            let (wim, wom) = (mirror_if(on_back[i], wil), mirror_if(on_back[i], wol));
+            let upper = (wim.z > 0.0) & (wom.z > 0.0);
+            let f = if upper { albedo.rgb(i) * FRAC_1_PI } else { Rgb::ZERO };
+            let w = if delta { 1.0 } else { power_heuristic(pdf, cosine_hemisphere_pdf(wim.z)) };
+            let c = beta.rgb(i) * f * li * (wil.z.abs() * w / pdf);
+            (c, (wil.z * wol.z > 0.0) & !f.is_black())
+        };
+        let (mut delta_add, mut delta_ok, mut delta_rays) = (V3::ZERO, 0u32, [Ray::new(Vec3::ZERO, Vec3::Z); N]);
+        // The delta light's sample, as `PointLight::sample` or `DirectionalLight::sample`
+        // draws it, chosen with probability 1; its shadow test as `Scene::shadow_ray` makes it.
+        for i in Bits(if lights.delta.is_some() { alive } else { 0 }) {
+            let (pi, ngi) = (p.get(i), ng.get(i));
+            let (wi, li, ray) = match &lights.delta {
+                Some(Light::Point(light)) => {
+                    let delta = light.position - pi;
+                    let dist2 = delta.length_squared();
+                    if !dist2.is_finite() || dist2 <= 0.0 {
+                        continue;
+                    }
+                    let li = light.intensity / dist2;
+                    if !li.is_finite() {
+                        continue;
+                    }
+                    (delta / dist2.sqrt(), li, spawn_ray_to(pi, ngi, light.position).0)
+                }
+                Some(Light::Directional(light)) => {
+                    (-light.direction, light.irradiance, spawn_ray(pi, ngi, -light.direction))
+                }
+                _ => unreachable!("LaneLights holds a point or directional light"),
+            };
+            let (c, ok) = contribution(i, wi, li, 1.0, true);
+            if ok {
+                delta_add.set_rgb(i, c);
+                delta_ok |= 1 << i;
+                delta_rays[i] = ray;
+            }
+        }
+        let (mut map_add, mut map_ok, mut map_rays) = (V3::ZERO, 0u32, [Ray::new(Vec3::ZERO, Vec3::Z); N]);
+        for i in Bits(alive) {
+            // `EnvMap::light_sample` of the direction drawn ahead (chosen with probability 1
+            // where the map is the only light).
+            let Some(s) = &env[i] else { continue };
+            if !(s.pdf > 0.0 && s.pdf.is_finite()) {
+                continue;
+            }
+            let (c, ok) = contribution(i, s.wi, s.li, s.pdf, false);
+            if ok {
+                map_add.set_rgb(i, c);
+                map_ok |= 1 << i;
+                map_rays[i] = spawn_ray(p.get(i), ng.get(i), s.wi);
+            }
+        }
+        let skip = [None; N];
+        let blocked = |rays: &[Ray; N], lanes: u32| {
+            if lanes != 0 {
+                scene.occluded_packet(rays, &skip, lanes, scene.simd())
+            } else {
+                0
+            }
+        };
+        let (delta_seen, map_seen) = (delta_ok & !blocked(&delta_rays, delta_ok), map_ok & !blocked(&map_rays, map_ok));
+        for i in Bits(alive) {
+            if delta_seen >> i & 1 != 0 {
+                lit[i] += delta_add.rgb(i);
+            }
+            if map_seen >> i & 1 != 0 {
+                lit[i] += map_add.rgb(i);
+            }
+        }
     }
 
     /// The estimates of [`path::li`](super::path::li) along camera rays `rays`, each drawing
@@ -390,6 +523,7 @@ impl DiffuseSurfaces {
         let inv_light_area = 1.0 / light_area;
         let light_pdf_area = 1.0 / light_area.max(f32::MIN_POSITIVE);
         let emits = !le.is_black();
+        let lane_lights = if light.is_none() { LaneLights::of(scene) } else { None };
         let split = scene.splits_environment();
         let mut queue = ShadowQueue::new(scene);
         let (mut o, mut d) = (V3::ZERO, V3::ZERO);
@@ -641,6 +775,16 @@ impl DiffuseSurfaces {
                 for i in Bits(adds & !blocked) {
                     queue.lit[i] += add.rgb(i);
                 }
+            } else if let Some(lights) = &lane_lights {
+                self.lights_in_lanes(
+                    scene,
+                    lights,
+                    &numbers,
+                    alive,
+                    (&p, &ng, &wo, &frame),
+                    (&albedo, &beta, &on_back),
+                    &mut queue.lit,
+                );
             } else {
                 self.lights_by_lane(
                     scene,
@@ -706,7 +850,7 @@ mod tests {
     use crate::integrator::batch_check::{assert_batches_match, camera_samples, patchy_map};
     use crate::integrator::Integrator;
     use crate::light::point::PointLight;
-    use crate::light::Light;
+    use crate::light::{DirectionalLight, Light};
     use crate::material::Material;
     use crate::ray::Ray;
     use crate::sampler::Sampler;
@@ -789,7 +933,8 @@ mod tests {
 
     /// The room's smooth box and two-sided sheet on a floor, open to a turned, patchy map (with
     /// a point light beside it when `point`), seen so that some camera rays escape.
-    fn open_sky(point: bool) -> Scene {
+    /// A room open to the sky, lit by a patchy environment map (with `map`) and `lights`.
+    fn open_sky(map: bool, lights: Vec<Light>) -> Scene {
         let cam = Camera::new(
             look_at(Vec3::new(0.2, 0.6, 1.6), Vec3::new(0.0, -0.6, -0.5), Vec3::Y).unwrap(),
             70.0,
@@ -803,9 +948,11 @@ mod tests {
         let floor = vec![Vec3::new(-s, y, s), Vec3::new(s, y, s), Vec3::new(s, y, -s), Vec3::new(-s, y, -s)];
         let floor = TriangleMesh::new(floor, None, vec![[0, 1, 2], [0, 2, 3]]).unwrap();
         b.shape(Shape::new(Geometry::Mesh(floor), lambert([0.6, 0.6, 0.5])));
-        b.light(Light::EnvMap(Box::new(patchy_map())));
-        if point {
-            b.light(Light::Point(PointLight { position: Vec3::new(0.5, 1.0, 0.5), intensity: Rgb::splat(2.0) }));
+        if map {
+            b.light(Light::EnvMap(Box::new(patchy_map())));
+        }
+        for light in lights {
+            b.light(light);
         }
         b.build().unwrap()
     }
@@ -830,8 +977,23 @@ mod tests {
 
     #[test]
     fn lanes_lit_through_the_scene_give_each_path_its_one_ray_estimate_bit_for_bit() {
-        for point in [false, true] {
-            let mut scene = open_sky(point);
+        let point = Light::Point(PointLight { position: Vec3::new(0.5, 1.0, 0.5), intensity: Rgb::splat(2.0) });
+        let sun = Light::Directional(DirectionalLight {
+            direction: Vec3::new(-0.3, -1.0, -0.2).normalize(),
+            irradiance: Rgb::new(2.0, 1.8, 1.5),
+        });
+        // Each kind of light sampled in lane arrays, alone and beside the map, and two point
+        // lights beside it (sampled lane by lane).
+        let lights = [
+            (true, vec![]),
+            (true, vec![point.clone()]),
+            (true, vec![sun.clone()]),
+            (false, vec![point.clone()]),
+            (false, vec![sun]),
+            (true, vec![point.clone(), point]),
+        ];
+        for (map, lights) in lights {
+            let mut scene = open_sky(map, lights);
             let (rays, samplers) = camera_samples(&scene, 7, 3);
             let escaping = rays.iter().filter(|r| scene.intersect(r).is_none()).count();
             assert!(escaping > rays.len() / 10 && escaping < rays.len() / 2, "{escaping} of {} escape", rays.len());
