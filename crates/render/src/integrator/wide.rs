@@ -5,12 +5,13 @@
 //! frame, the area light's sample, the BRDF and the throughput runs in loops over the lanes,
 //! which the compiler turns into vector code; the shadow rays of a step go out as packets.
 //! Spheres, rectangles and disks find their hits lane by lane through the scene, and textured
-//! albedos are looked up lane by lane. An environment map, a point light and a directional
-//! light (one of each at most, the map's directions drawn as one packet) are sampled with the
-//! lanes' data in lane arrays, each kind's shadow rays one query of sixteen: 7 to 16 % less
-//! time than sampling them through the scene one lane at a time (diffuse scenes under a map
-//! and a point light, a map and the sun, the point light alone, the map alone; 64 spp). Other
-//! lights are sampled lane by lane through the scene. The directions of the rays about to be
+//! albedos are looked up lane by lane. An environment (a map, whose directions are drawn as
+//! one packet, or a constant sky) and a point or directional light, one of each at most, are
+//! sampled with the lanes' data in lane arrays, each kind's shadow rays one query of sixteen:
+//! 7 to 16 % less time than sampling them through the scene one lane at a time (diffuse
+//! scenes under a map and a point light, a map and the sun, the point light alone, the map
+//! alone, a constant sky alone and beside a point light; 64 spp). Other lights are sampled
+//! lane by lane through the scene. The directions of the rays about to be
 //! traced fall on the map as one packet too, for the paths that escape (the Cornell box lit by
 //! a map through its open front instead of its lamp, 64 spp: 2.23 → 1.64 s against the packet
 //! path of other scenes, 1.83 → 1.68 s more with the escapes' packet; a 60 000-triangle scene
@@ -302,25 +303,30 @@ fn mirror_if(mirror: bool, w: Vec3) -> Vec3 {
 }
 
 /// The lights that [`DiffuseSurfaces::lights_in_lanes`] samples in lane arrays: an
-/// environment map (sampled beside the choice, or the only light), one point or directional
-/// light (the only one to choose), or both; nothing else.
-struct LaneLights {
-    map: bool,
-    delta: Option<Light>,
+/// environment (a map or a constant sky; sampled beside the choice, or the only light), one
+/// point or directional light (the only one to choose), or both; nothing else.
+struct LaneLights<'a> {
+    /// The environment, if any: [`Light::EnvMap`] or [`Light::Constant`].
+    env: Option<&'a Light>,
+    /// The point or directional light, if any.
+    delta: Option<&'a Light>,
+    /// Whether the environment is sampled beside the choice, with numbers of its own.
+    split: bool,
 }
 
-impl LaneLights {
+impl<'a> LaneLights<'a> {
     /// The lights of `scene` when they are of this kind.
-    fn of(scene: &Scene) -> Option<LaneLights> {
-        let (mut map, mut delta) = (false, None);
+    fn of(scene: &'a Scene) -> Option<LaneLights<'a>> {
+        let (mut env, mut delta) = (None, None);
         for light in scene.lights() {
             match light {
-                Light::EnvMap(_) if !map => map = true,
-                Light::Point(_) | Light::Directional(_) if delta.is_none() => delta = Some(light.clone()),
+                Light::EnvMap(_) | Light::Constant(_) if env.is_none() => env = Some(light),
+                Light::Point(_) | Light::Directional(_) if delta.is_none() => delta = Some(light),
                 _ => return None,
             }
         }
-        (map || delta.is_some()).then_some(LaneLights { map, delta })
+        let split = env.is_some() && delta.is_some();
+        (env.is_some() || delta.is_some()).then_some(LaneLights { env, delta, split })
     }
 }
 
@@ -388,9 +394,10 @@ impl DiffuseSurfaces {
         queue.flush();
     }
 
-    /// Next-event estimation where the lights are an environment map, a point or directional
-    /// light, or both (see [`LaneLights`]), from the lanes' data in lane arrays: each lane's
-    /// light samples as `path` draws them (the delta light's, then the map's), their
+    /// Next-event estimation where the lights are an environment (a map or a constant sky), a
+    /// point or directional light, or both (see [`LaneLights`]), from the lanes' data in lane
+    /// arrays: each lane's light samples as `path` draws them (the delta light's, then the
+    /// environment's), their
     /// contributions and shadow rays, one query of sixteen for each kind (a packet where its
     /// rays are coherent, as a point light's from nearby points are). Each lane adds its
     /// visible contributions to its sum in `lit` in the order `path` adds them, so its
@@ -407,7 +414,8 @@ impl DiffuseSurfaces {
         (albedo, beta, on_back): (&V3, &V3, &[bool; N]),
         lit: &mut [Rgb; N],
     ) {
-        let env = if lights.map { map_directions(scene, numbers, alive) } else { [None; N] };
+        let map = matches!(lights.env, Some(Light::EnvMap(_)));
+        let env = if map { map_directions(scene, numbers, alive) } else { [None; N] };
         // Per lane, what a sample of direction `wi` (world), radiance `li` and density `pdf`
         // adds where it is seen (the light is not behind the surface and the model reflects
         // it), as `lights_by_lane` computes it.
@@ -451,19 +459,43 @@ impl DiffuseSurfaces {
                 delta_rays[i] = ray;
             }
         }
-        let (mut map_add, mut map_ok, mut map_rays) = (V3::ZERO, 0u32, [Ray::new(Vec3::ZERO, Vec3::Z); N]);
-        for i in Bits(alive) {
-            // `EnvMap::light_sample` of the direction drawn ahead (chosen with probability 1
-            // where the map is the only light).
-            let Some(s) = &env[i] else { continue };
-            if !(s.pdf > 0.0 && s.pdf.is_finite()) {
-                continue;
-            }
-            let (c, ok) = contribution(i, s.wi, s.li, s.pdf, false);
+        let (mut env_add, mut env_ok, mut env_rays) = (V3::ZERO, 0u32, [Ray::new(Vec3::ZERO, Vec3::Z); N]);
+        for i in Bits(if lights.env.is_some() { alive } else { 0 }) {
+            // The environment's sample (chosen with probability 1 where it is the only
+            // light): a map's as `EnvMap::light_sample` makes it of the direction drawn
+            // ahead; a constant sky's as `ConstantEnv::sample` draws it, cosine-weighted about
+            // the normal on wo's side, from the environment's own numbers where it is sampled
+            // beside the choice, else from the choice's.
+            let (pi, fr, wol) = (p.get(i), frame.get(i), wo.get(i));
+            let (wi, li, pdf) = match &lights.env {
+                Some(Light::EnvMap(_)) => {
+                    let Some(s) = &env[i] else { continue };
+                    if !(s.pdf > 0.0 && s.pdf.is_finite()) {
+                        continue;
+                    }
+                    (s.wi, s.li, s.pdf)
+                }
+                Some(Light::Constant(c)) => {
+                    let u = if lights.split {
+                        Vec2::new(numbers.uex[i], numbers.uey[i])
+                    } else {
+                        Vec2::new(numbers.ux[i], numbers.uy[i])
+                    };
+                    let w = cosine_hemisphere(u);
+                    let pdf = cosine_hemisphere_pdf(w.z);
+                    let sampled = pdf > 0.0;
+                    if !sampled {
+                        continue;
+                    }
+                    (Frame::from_normal(fr.n * wol.z.signum()).to_world(w), c.radiance, pdf)
+                }
+                _ => unreachable!("LaneLights holds a map or a constant sky"),
+            };
+            let (c, ok) = contribution(i, wi, li, pdf, false);
             if ok {
-                map_add.set_rgb(i, c);
-                map_ok |= 1 << i;
-                map_rays[i] = spawn_ray(p.get(i), ng.get(i), s.wi);
+                env_add.set_rgb(i, c);
+                env_ok |= 1 << i;
+                env_rays[i] = spawn_ray(pi, ng.get(i), wi);
             }
         }
         let skip = [None; N];
@@ -474,13 +506,13 @@ impl DiffuseSurfaces {
                 0
             }
         };
-        let (delta_seen, map_seen) = (delta_ok & !blocked(&delta_rays, delta_ok), map_ok & !blocked(&map_rays, map_ok));
+        let (delta_seen, env_seen) = (delta_ok & !blocked(&delta_rays, delta_ok), env_ok & !blocked(&env_rays, env_ok));
         for i in Bits(alive) {
             if delta_seen >> i & 1 != 0 {
                 lit[i] += delta_add.rgb(i);
             }
-            if map_seen >> i & 1 != 0 {
-                lit[i] += map_add.rgb(i);
+            if env_seen >> i & 1 != 0 {
+                lit[i] += env_add.rgb(i);
             }
         }
     }
@@ -850,7 +882,7 @@ mod tests {
     use crate::integrator::batch_check::{assert_batches_match, camera_samples, patchy_map};
     use crate::integrator::Integrator;
     use crate::light::point::PointLight;
-    use crate::light::{DirectionalLight, Light};
+    use crate::light::{ConstantEnv, DirectionalLight, Light};
     use crate::material::Material;
     use crate::ray::Ray;
     use crate::sampler::Sampler;
@@ -933,8 +965,8 @@ mod tests {
 
     /// The room's smooth box and two-sided sheet on a floor, open to a turned, patchy map (with
     /// a point light beside it when `point`), seen so that some camera rays escape.
-    /// A room open to the sky, lit by a patchy environment map (with `map`) and `lights`.
-    fn open_sky(map: bool, lights: Vec<Light>) -> Scene {
+    /// A room open to the sky, lit by `lights`.
+    fn open_sky(lights: Vec<Light>) -> Scene {
         let cam = Camera::new(
             look_at(Vec3::new(0.2, 0.6, 1.6), Vec3::new(0.0, -0.6, -0.5), Vec3::Y).unwrap(),
             70.0,
@@ -948,9 +980,6 @@ mod tests {
         let floor = vec![Vec3::new(-s, y, s), Vec3::new(s, y, s), Vec3::new(s, y, -s), Vec3::new(-s, y, -s)];
         let floor = TriangleMesh::new(floor, None, vec![[0, 1, 2], [0, 2, 3]]).unwrap();
         b.shape(Shape::new(Geometry::Mesh(floor), lambert([0.6, 0.6, 0.5])));
-        if map {
-            b.light(Light::EnvMap(Box::new(patchy_map())));
-        }
         for light in lights {
             b.light(light);
         }
@@ -982,18 +1011,22 @@ mod tests {
             direction: Vec3::new(-0.3, -1.0, -0.2).normalize(),
             irradiance: Rgb::new(2.0, 1.8, 1.5),
         });
-        // Each kind of light sampled in lane arrays, alone and beside the map, and two point
-        // lights beside it (sampled lane by lane).
+        let map = || Light::EnvMap(Box::new(patchy_map()));
+        let sky = Light::Constant(ConstantEnv { radiance: Rgb::new(0.8, 1.0, 1.2) });
+        // Each kind of light sampled in lane arrays, alone and beside each environment, and two
+        // point lights beside the map (sampled lane by lane).
         let lights = [
-            (true, vec![]),
-            (true, vec![point.clone()]),
-            (true, vec![sun.clone()]),
-            (false, vec![point.clone()]),
-            (false, vec![sun]),
-            (true, vec![point.clone(), point]),
+            vec![map()],
+            vec![map(), point.clone()],
+            vec![map(), sun.clone()],
+            vec![sky.clone()],
+            vec![sky, point.clone()],
+            vec![point.clone()],
+            vec![sun],
+            vec![map(), point.clone(), point],
         ];
-        for (map, lights) in lights {
-            let mut scene = open_sky(map, lights);
+        for lights in lights {
+            let mut scene = open_sky(lights);
             let (rays, samplers) = camera_samples(&scene, 7, 3);
             let escaping = rays.iter().filter(|r| scene.intersect(r).is_none()).count();
             assert!(escaping > rays.len() / 10 && escaping < rays.len() / 2, "{escaping} of {} escape", rays.len());
