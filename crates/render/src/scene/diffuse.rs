@@ -9,8 +9,8 @@ use crate::light::Light;
 use crate::material::Material;
 use crate::shape::Geometry;
 use crate::texture::Texture;
-use glam::{Vec2, Vec3};
-use radiometry::{Frame, Rgb};
+use glam::Vec2;
+use radiometry::Rgb;
 
 /// A Lambertian side's albedo.
 #[derive(Clone, Debug)]
@@ -69,10 +69,6 @@ pub(crate) struct DiffuseSurfaces {
     /// The emitting mesh and its radiance, where one area light is the only light; None where
     /// no light is an area light (they are sampled through the scene, lane by lane).
     pub area: Option<(usize, Rgb)>,
-    /// Per shape, a rectangle's geometric normal and shading frame, the same at every point of
-    /// it (as [`Scene::interaction`](super::Scene::interaction) computes them); None for
-    /// other shapes.
-    pub flat: Vec<Option<(Vec3, Frame)>>,
 }
 
 impl DiffuseSurfaces {
@@ -100,16 +96,6 @@ impl DiffuseSurfaces {
                 m => Some((Albedo::of(m)?, None)),
             })
             .collect::<Option<Vec<_>>>()?;
-        let flat = shapes
-            .iter()
-            .map(|s| match &s.geometry {
-                Geometry::Rectangle(r) => {
-                    let p = r.surface(r.center);
-                    Some((p.ng, p.frame()))
-                }
-                _ => None,
-            })
-            .collect();
-        Some(DiffuseSurfaces { albedo, area, flat })
+        Some(DiffuseSurfaces { albedo, area })
     }
 }

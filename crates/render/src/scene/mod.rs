@@ -82,7 +82,13 @@ impl SurfaceInteraction {
 
     /// The interaction at surface point `s` of shape `shape`, `t` along the ray.
     pub fn new(t: f32, s: &SurfacePoint, shape: usize) -> Self {
-        SurfaceInteraction { t, p: s.p, ng: s.ng, frame: s.frame(), uv: s.uv, dp_du: s.dp_du, dp_dv: s.dp_dv, shape }
+        Self::with_frame(t, s, s.frame(), shape)
+    }
+
+    /// [`new`](Self::new) with `s`'s shading frame already made.
+    #[inline]
+    fn with_frame(t: f32, s: &SurfacePoint, frame: Frame, shape: usize) -> Self {
+        SurfaceInteraction { t, p: s.p, ng: s.ng, frame, uv: s.uv, dp_du: s.dp_du, dp_dv: s.dp_dv, shape }
     }
 }
 
@@ -190,6 +196,13 @@ impl SceneBuilder {
         let diffuse = diffuse::DiffuseSurfaces::of(&shapes, &lights);
         let transmits = shapes.iter().map(|s| s.material.with(&SurfaceInteraction::PROBE, |b| b.transmits())).collect();
         let delta_only = shapes.iter().map(|s| s.material.delta_only()).collect();
+        let flat_frames = shapes
+            .iter()
+            .map(|s| match &s.geometry {
+                Geometry::Rectangle(r) => Some(r.surface(r.center).frame()),
+                _ => None,
+            })
+            .collect();
         Ok(Scene {
             camera,
             shapes,
@@ -205,6 +218,7 @@ impl SceneBuilder {
             diffuse,
             transmits,
             delta_only,
+            flat_frames,
             simd: Simd::detect(),
         })
     }
@@ -250,6 +264,9 @@ pub struct Scene {
     /// Per shape, whether its model has delta lobes only at every hit
     /// ([`Material::delta_only`]).
     delta_only: Vec<bool>,
+    /// Per shape, its shading frame where that is the same at every point (a rectangle's),
+    /// made once rather than at every hit.
+    flat_frames: Vec<Option<Frame>>,
     /// The instruction set single-ray queries are compiled for.
     simd: Simd,
 }
@@ -402,7 +419,11 @@ impl Scene {
             Geometry::Rectangle(r) => r.surface(ray.at(t)),
             Geometry::Disk(dk) => dk.surface(ray.at(t)),
         };
-        SurfaceInteraction::new(t, &surface, shape as usize)
+        let shape = shape as usize;
+        match self.flat_frames[shape] {
+            Some(frame) => SurfaceInteraction::with_frame(t, &surface, frame, shape),
+            None => SurfaceInteraction::new(t, &surface, shape),
+        }
     }
 
     /// Starts loading what [`interaction`](Self::interaction) reads first for BVH-ordered
@@ -504,4 +525,48 @@ impl Scene {
 fn corner_edges(m: &crate::shape::TriangleMesh, i: u32) -> (Vec3, Vec3, Vec3) {
     let [a, b, c] = m.triangle(i as usize);
     (a, b - a, c - a)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::{look_at, FovAxis};
+    use crate::shape::rectangle::Rectangle;
+    use glam::{Mat4, Quat};
+
+    #[test]
+    fn a_rectangles_hits_take_the_frame_each_would_compute_bit_for_bit() {
+        // Rotated, stretched, mirrored (negative determinant) and flipped rectangles.
+        let places = [
+            Mat4::from_rotation_x(-1.3),
+            Mat4::from_scale_rotation_translation(Vec3::new(2.0, 0.5, 1.0), Quat::from_rotation_y(0.7), Vec3::Y),
+            Mat4::from_scale_rotation_translation(Vec3::new(-1.0, 1.5, 1.0), Quat::from_rotation_z(0.4), Vec3::X),
+            Mat4::from_rotation_translation(Quat::from_euler(glam::EulerRot::XYZ, 0.3, -0.8, 1.9), -Vec3::Z),
+        ];
+        let cam = Camera::new(look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y).unwrap(), 40.0, FovAxis::X, 4, 4);
+        let mut b = SceneBuilder::new(cam);
+        for (k, m) in places.iter().enumerate() {
+            let mut r = Rectangle::new(m).unwrap();
+            r.flip = k % 2 == 1;
+            b.shape_with_model(Geometry::Rectangle(r), "lambert", &[]).unwrap();
+        }
+        let scene = b.build().unwrap();
+        let mut s = crate::sampler::Sampler::new(5, 0, 0);
+        let mut hits = [0; 4];
+        for _ in 0..4000 {
+            let o = (Vec3::new(s.next_1d(), s.next_1d(), s.next_1d()) - 0.5) * 8.0;
+            let ray = Ray::new(o, (Vec3::new(s.next_1d(), s.next_1d(), s.next_1d()) - 0.5).normalize() * -o.signum());
+            let Some((k, t)) = scene.intersect_t(&ray) else { continue };
+            let got = scene.interaction(&ray, k, t);
+            let Geometry::Rectangle(r) = scene.geometry(got.shape) else { unreachable!("only rectangles") };
+            let want = SurfaceInteraction::new(t, &r.surface(ray.at(t)), got.shape);
+            let bits = |si: &SurfaceInteraction| {
+                [si.p, si.ng, si.frame.s, si.frame.t, si.frame.n, si.dp_du, si.dp_dv, si.uv.extend(si.t)]
+                    .map(|v| v.to_array().map(f32::to_bits))
+            };
+            assert_eq!(bits(&got), bits(&want), "shape {}", got.shape);
+            hits[got.shape] += 1;
+        }
+        assert!(hits.iter().all(|&n| n > 20), "hits per rectangle: {hits:?}");
+    }
 }
