@@ -11,12 +11,11 @@
 //! 7 to 16 % less time than sampling them through the scene one lane at a time (diffuse
 //! scenes under a map and a point light, a map and the sun, the point light alone, the map
 //! alone, a constant sky alone and beside a point light; 64 spp). Other lights are sampled
-//! lane by lane through the scene. The directions of the rays about to be
-//! traced fall on the map as one packet too, for the paths that escape (the Cornell box lit by
-//! a map through its open front instead of its lamp, 64 spp: 2.23 → 1.64 s against the packet
-//! path of other scenes, 1.83 → 1.68 s more with the escapes' packet; a 60 000-triangle scene
-//! under a map gains 1 %: there the ray queries' memory traffic, not the shading, sets the
-//! pace). A lane whose path ends takes the next camera sample of the batch (path regeneration),
+//! lane by lane through the scene. The directions of the rays about to be traced fall on the
+//! map as one packet too, for the paths that escape (the Cornell box lit by a map through its
+//! open front instead of its lamp, 64 spp: 2.23 → 1.64 s against the packet path of other
+//! scenes, 1.83 → 1.68 s more with the escapes' packet; a 60 000-triangle scene under a map
+//! gains 1 %: there the ray queries' memory traffic, not the shading, sets the pace). A lane whose path ends takes the next camera sample of the batch (path regeneration),
 //! so that lanes do not idle until the longest path of sixteen is done: on the Cornell box a
 //! lane was idle in 29 % of the steps without it.
 //!
@@ -310,8 +309,6 @@ struct LaneLights<'a> {
     env: Option<&'a Light>,
     /// The point or directional light, if any.
     delta: Option<&'a Light>,
-    /// Whether the environment is sampled beside the choice, with numbers of its own.
-    split: bool,
 }
 
 impl<'a> LaneLights<'a> {
@@ -325,8 +322,7 @@ impl<'a> LaneLights<'a> {
                 _ => return None,
             }
         }
-        let split = env.is_some() && delta.is_some();
-        (env.is_some() || delta.is_some()).then_some(LaneLights { env, delta, split })
+        (env.is_some() || delta.is_some()).then_some(LaneLights { env, delta })
     }
 }
 
@@ -397,11 +393,10 @@ impl DiffuseSurfaces {
     /// Next-event estimation where the lights are an environment (a map or a constant sky), a
     /// point or directional light, or both (see [`LaneLights`]), from the lanes' data in lane
     /// arrays: each lane's light samples as `path` draws them (the delta light's, then the
-    /// environment's), their
-    /// contributions and shadow rays, one query of sixteen for each kind (a packet where its
-    /// rays are coherent, as a point light's from nearby points are). Each lane adds its
-    /// visible contributions to its sum in `lit` in the order `path` adds them, so its
-    /// estimate is the same.
+    /// environment's), their contributions and shadow rays, one query of sixteen for each kind
+    /// (a packet where its rays are coherent, as a point light's from nearby points are). Each
+    /// lane adds its visible contributions to its sum in `lit` in the order `path` adds them,
+    /// so its estimate is the same.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn lights_in_lanes(
@@ -414,7 +409,7 @@ impl DiffuseSurfaces {
         (albedo, beta, on_back): (&V3, &V3, &[bool; N]),
         lit: &mut [Rgb; N],
     ) {
-        let map = matches!(lights.env, Some(Light::EnvMap(_)));
+        let (map, split) = (matches!(lights.env, Some(Light::EnvMap(_))), scene.splits_environment());
         let env = if map { map_directions(scene, numbers, alive) } else { [None; N] };
         // Per lane, what a sample of direction `wi` (world), radiance `li` and density `pdf`
         // adds where it is seen (the light is not behind the surface and the model reflects
@@ -476,7 +471,7 @@ impl DiffuseSurfaces {
                     (s.wi, s.li, s.pdf)
                 }
                 Some(Light::Constant(c)) => {
-                    let u = if lights.split {
+                    let u = if split {
                         Vec2::new(numbers.uex[i], numbers.uey[i])
                     } else {
                         Vec2::new(numbers.ux[i], numbers.uy[i])
@@ -556,7 +551,6 @@ impl DiffuseSurfaces {
         let light_pdf_area = 1.0 / light_area.max(f32::MIN_POSITIVE);
         let emits = !le.is_black();
         let lane_lights = if light.is_none() { LaneLights::of(scene) } else { None };
-
         let split = scene.splits_environment();
         let mut queue = ShadowQueue::new(scene);
         let (mut o, mut d) = (V3::ZERO, V3::ZERO);
