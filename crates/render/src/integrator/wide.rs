@@ -15,9 +15,10 @@
 //! map as one packet too, for the paths that escape (the Cornell box lit by a map through its
 //! open front instead of its lamp, 64 spp: 2.23 → 1.64 s against the packet path of other
 //! scenes, 1.83 → 1.68 s more with the escapes' packet; a 60 000-triangle scene under a map
-//! gains 1 %: there the ray queries' memory traffic, not the shading, sets the pace). A lane whose path ends takes the next camera sample of the batch (path regeneration),
-//! so that lanes do not idle until the longest path of sixteen is done: on the Cornell box a
-//! lane was idle in 29 % of the steps without it.
+//! gains 1 %: there the ray queries' memory traffic, not the shading, sets the pace). A lane
+//! whose path ends takes the next camera sample of the batch (path regeneration), so that
+//! lanes do not idle until the longest path of sixteen is done: on the Cornell box a lane was
+//! idle in 29 % of the steps without it.
 //!
 //! Every lane makes the operations, in the same order, that [`path::trace`](super::path::trace)
 //! makes for its path (branches written as selections where a loop is to become vector code),
@@ -326,6 +327,27 @@ impl<'a> LaneLights<'a> {
     }
 }
 
+/// What a light sample of direction `wi` (world), radiance `li` and density `pdf` (`delta`:
+/// a delta light's) adds to lane `i` of the vertices `(wo, frame, albedo, beta, on_back)`
+/// where the light is seen, and whether it can add anything there (the light is on wo's side
+/// and the lane's Lambertian side reflects it), as `path` weighs it.
+#[inline(always)]
+fn light_contribution(
+    i: usize,
+    (wo, frame, albedo, beta, on_back): (&V3, &Frames, &V3, &V3, &[bool; N]),
+    wi: Vec3,
+    li: Rgb,
+    pdf: f32,
+    delta: bool,
+) -> (Rgb, bool) {
+    let (wil, wol) = (frame.get(i).to_local(wi), wo.get(i));
+    let (wim, wom) = (mirror_if(on_back[i], wil), mirror_if(on_back[i], wol));
+    let upper = (wim.z > 0.0) & (wom.z > 0.0);
+    let f = if upper { albedo.rgb(i) * FRAC_1_PI } else { Rgb::ZERO };
+    let w = if delta { 1.0 } else { power_heuristic(pdf, cosine_hemisphere_pdf(wim.z)) };
+    (beta.rgb(i) * f * li * (wil.z.abs() * w / pdf), (wil.z * wol.z > 0.0) & !f.is_black())
+}
+
 /// The environment map's directions for the light numbers of lanes `alive`, drawn as one
 /// packet (None without a map, or where a lane has no numbers for it).
 #[inline(always)]
@@ -372,17 +394,13 @@ impl DiffuseSurfaces {
         queue: &mut ShadowQueue,
     ) {
         let env = map_directions(scene, numbers, alive);
+        let surface = (wo, frame, albedo, beta, on_back);
         for i in Bits(alive) {
-            let (pi, fr, wol) = (p.get(i), frame.get(i), wo.get(i));
-            let r = RefPoint { p: pi, n: Some(fr.n * wol.z.signum()) };
+            let pi = p.get(i);
+            let r = RefPoint { p: pi, n: Some(frame.n.get(i) * wo.z[i].signum()) };
             for ls in scene.sample_lights(&r, &numbers.light(i, env[i]), true).iter().flatten() {
-                let wil = fr.to_local(ls.wi);
-                let (wim, wom) = (mirror_if(on_back[i], wil), mirror_if(on_back[i], wol));
-                let upper = (wim.z > 0.0) & (wom.z > 0.0);
-                let f = if upper { albedo.rgb(i) * FRAC_1_PI } else { Rgb::ZERO };
-                if wil.z * wol.z > 0.0 && !f.is_black() {
-                    let w = if ls.delta { 1.0 } else { power_heuristic(ls.pdf, cosine_hemisphere_pdf(wim.z)) };
-                    let c = beta.rgb(i) * f * ls.li * (wil.z.abs() * w / ls.pdf);
+                let (c, seen) = light_contribution(i, surface, ls.wi, ls.li, ls.pdf, ls.delta);
+                if seen {
                     queue.push(i, scene.shadow_ray(pi, ng.get(i), ls), c);
                 }
             }
@@ -411,25 +429,13 @@ impl DiffuseSurfaces {
     ) {
         let (map, split) = (matches!(lights.env, Some(Light::EnvMap(_))), scene.splits_environment());
         let env = if map { map_directions(scene, numbers, alive) } else { [None; N] };
-        // Per lane, what a sample of direction `wi` (world), radiance `li` and density `pdf`
-        // adds where it is seen (the light is not behind the surface and the model reflects
-        // it), as `lights_by_lane` computes it.
-        let contribution = |i: usize, wi: Vec3, li: Rgb, pdf: f32, delta: bool| {
-            let (fr, wol) = (frame.get(i), wo.get(i));
-            let wil = fr.to_local(wi);
-            let (wim, wom) = (mirror_if(on_back[i], wil), mirror_if(on_back[i], wol));
-            let upper = (wim.z > 0.0) & (wom.z > 0.0);
-            let f = if upper { albedo.rgb(i) * FRAC_1_PI } else { Rgb::ZERO };
-            let w = if delta { 1.0 } else { power_heuristic(pdf, cosine_hemisphere_pdf(wim.z)) };
-            let c = beta.rgb(i) * f * li * (wil.z.abs() * w / pdf);
-            (c, (wil.z * wol.z > 0.0) & !f.is_black())
-        };
+        let surface = (wo, frame, albedo, beta, on_back);
         let (mut delta_add, mut delta_ok, mut delta_rays) = (V3::ZERO, 0u32, [Ray::new(Vec3::ZERO, Vec3::Z); N]);
         // The delta light's sample, as `PointLight::sample` or `DirectionalLight::sample`
         // draws it, chosen with probability 1; its shadow test as `Scene::shadow_ray` makes it.
         for i in Bits(if lights.delta.is_some() { alive } else { 0 }) {
             let (pi, ngi) = (p.get(i), ng.get(i));
-            let (wi, li, ray) = match &lights.delta {
+            let (wi, li, ray) = match lights.delta {
                 Some(Light::Point(light)) => {
                     let delta = light.position - pi;
                     let dist2 = delta.length_squared();
@@ -447,7 +453,7 @@ impl DiffuseSurfaces {
                 }
                 _ => unreachable!("LaneLights holds a point or directional light"),
             };
-            let (c, ok) = contribution(i, wi, li, 1.0, true);
+            let (c, ok) = light_contribution(i, surface, wi, li, 1.0, true);
             if ok {
                 delta_add.set_rgb(i, c);
                 delta_ok |= 1 << i;
@@ -462,7 +468,7 @@ impl DiffuseSurfaces {
             // the normal on wo's side, from the environment's own numbers where it is sampled
             // beside the choice, else from the choice's.
             let (pi, fr, wol) = (p.get(i), frame.get(i), wo.get(i));
-            let (wi, li, pdf) = match &lights.env {
+            let (wi, li, pdf) = match lights.env {
                 Some(Light::EnvMap(_)) => {
                     let Some(s) = &env[i] else { continue };
                     if !(s.pdf > 0.0 && s.pdf.is_finite()) {
@@ -486,7 +492,7 @@ impl DiffuseSurfaces {
                 }
                 _ => unreachable!("LaneLights holds a map or a constant sky"),
             };
-            let (c, ok) = contribution(i, wi, li, pdf, false);
+            let (c, ok) = light_contribution(i, surface, wi, li, pdf, false);
             if ok {
                 env_add.set_rgb(i, c);
                 env_ok |= 1 << i;
