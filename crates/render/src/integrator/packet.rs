@@ -186,11 +186,8 @@ fn trace_together(
             at[i] = path::past_hidden(scene, rays[i], at[i], true);
         }
     });
-    prefetch_texels(scene, &paths, &at, lanes, max_depth);
     let map = scene.environment_map().is_some();
-    if map {
-        presample_environment(scene, &mut paths, &at, lanes, max_depth);
-    }
+    ready_vertices(scene, &mut paths, &at, lanes, max_depth, map);
     let mut alive = lanes;
     while alive != 0 {
         let mut next = 0;
@@ -219,47 +216,41 @@ fn trace_together(
         for_bits(alive, |i| hits[i].map_or((), |(k, _)| scene.prefetch_vertices(k)));
         for_bits(alive, |i| paths[i].reached(hits[i].is_some(), &mut samplers[i], scene, max_depth));
         for_bits(alive, |i| at[i] = hits[i].map(|(k, t)| scene.interaction(&paths[i].ray, k, t)));
-        prefetch_texels(scene, &paths, &at, alive, max_depth);
-        if map {
-            presample_environment(scene, &mut paths, &at, alive, max_depth);
-        }
+        ready_vertices(scene, &mut paths, &at, alive, max_depth, map);
     }
     paths.map(|p| p.result)
 }
 
-/// Starts loading the texels that the models at the next vertices `at` of `paths` in lanes
-/// `lanes` are built from, all lanes before any steps, so that each lane's cache misses overlap
-/// the steps before it; not where the path escapes or ends at `max_depth` (no model is built).
-fn prefetch_texels(
-    scene: &Scene,
-    paths: &[PathState; LANES],
-    at: &[Option<SurfaceInteraction>; LANES],
-    lanes: u32,
-    max_depth: u32,
-) {
-    for_bits(lanes, |i| {
-        if let Some(si) = &at[i] {
-            if !paths[i].at_last_vertex(max_depth) {
-                scene.material(si.shape).prefetch(si.uv);
-            }
-        }
-    });
-}
-
-/// Draws the environment map's light samples of the next vertices `at` of `paths` in lanes
-/// `lanes` as one packet ([`Scene::presample_environment_packet`]), where light samples may
-/// be drawn: not where the path escapes, meets delta lobes only or ends at `max_depth`.
-fn presample_environment(
+/// Readies the next vertices `at` of `paths` in lanes `lanes` where a model is built there
+/// (not where the path escapes or ends at `max_depth`), all lanes before any steps: first
+/// starts loading the texels the models are built from, so that each lane's cache misses
+/// overlap the steps before it; then, with an environment map (`map`), draws the map's light
+/// samples as one packet ([`Scene::presample_environment_packet`]) where light samples may be
+/// drawn (not on delta lobes only).
+fn ready_vertices(
     scene: &Scene,
     paths: &mut [PathState; LANES],
     at: &[Option<SurfaceInteraction>; LANES],
     lanes: u32,
     max_depth: u32,
+    map: bool,
 ) {
-    let (mut uc, mut u, mut drawn) = ([0.0; LANES], [Vec2::ZERO; LANES], 0);
+    let mut modelled = 0;
     for_bits(lanes, |i| {
-        let Some(si) = &at[i] else { return };
-        if scene.delta_only(si.shape) || paths[i].at_last_vertex(max_depth) {
+        if let Some(si) = &at[i] {
+            if !paths[i].at_last_vertex(max_depth) {
+                scene.material(si.shape).prefetch(si.uv);
+                modelled |= 1 << i;
+            }
+        }
+    });
+    if !map {
+        return;
+    }
+    let (mut uc, mut u, mut drawn) = ([0.0; LANES], [Vec2::ZERO; LANES], 0);
+    for_bits(modelled, |i| {
+        let si = at[i].as_ref().expect("a modelled lane has a hit");
+        if scene.delta_only(si.shape) {
             return;
         }
         if let Some(n) = scene.environment_numbers(paths[i].light_numbers()) {
