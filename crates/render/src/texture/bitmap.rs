@@ -522,9 +522,9 @@ mod tests {
         // The hint indexes the texels itself: a uv far outside, infinite or NaN must still
         // name a texel of the image (an index past the end panics).
         let odd = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1e30, -1e30, -0.0, 1.0, 0.99999994, -1e-8, 2.5];
-        let floats = Bitmap::from_floats(3, 5, 3, vec![0.5; 45], BitmapOptions::default()).unwrap();
         for w in [WrapMode::Repeat, WrapMode::Clamp, WrapMode::Mirror] {
-            for b in [t32(FilterType::Bilinear, w, false), t32(FilterType::Nearest, w, true), floats.clone()] {
+            let floats = Bitmap::from_floats(3, 5, 3, vec![0.5; 45], BitmapOptions { wrap: w, ..Default::default() });
+            for b in [t32(FilterType::Bilinear, w, false), t32(FilterType::Nearest, w, true), floats.unwrap()] {
                 for u in odd {
                     for v in odd {
                         b.prefetch(Vec2::new(u, v));
