@@ -106,6 +106,12 @@ impl Samplers16 {
         (self.state[i], self.inc[i]) = (s.state, s.inc);
     }
 
+    /// Lane `i`'s stream as it stands.
+    #[inline(always)]
+    pub fn get(&self, i: usize) -> Sampler {
+        Sampler { state: self.state[i], inc: self.inc[i] }
+    }
+
     /// The next number of every lane, as [`Sampler::next_1d`].
     #[inline(always)]
     pub fn next_1d(&mut self) -> [f32; LANES] {

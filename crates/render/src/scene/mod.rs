@@ -203,7 +203,7 @@ impl SceneBuilder {
                 _ => None,
             })
             .collect();
-        Ok(Scene {
+        let mut scene = Scene {
             camera,
             shapes,
             lights,
@@ -220,7 +220,9 @@ impl SceneBuilder {
             delta_only,
             flat_frames,
             simd: Simd::detect(),
-        })
+        };
+        scene.diffuse = scene.diffuse.take().filter(|d| d.mostly_in_view(&scene));
+        Ok(scene)
     }
 }
 
