@@ -105,12 +105,13 @@ impl DiffuseSurfaces {
     /// Whether four fifths or more of what the camera of `scene` sees (a grid of 16 × 16 rays
     /// through the image) is Lambertian: the lanes of other models are slower in the tracer
     /// than in the packet path, so a scene gains only where Lambertian surfaces make most of
-    /// the paths. Against the packet path (64 spp unless said), with the Lambertian share of
-    /// this grid's hits: the Cornell box with glass boxes, 82 %: −27 %; with rough plastic
-    /// ones, 82 %: −32 %; the bench's spheres with a Lambertian cube added, 84 %: −6 % (16 spp);
-    /// Mitsuba's material preview, a plastic object on a Lambertian plane, 75 %: −1 % (16 spp);
-    /// the textures scene with a plain diffuse floor, 62 %: +4 % (32 spp); a rough plastic torus
-    /// under a sky, 0 % (a Lambertian cube out of view): +17 % (16 spp).
+    /// the paths. Against the packet path, with the Lambertian share of this grid's hits (64
+    /// spp unless said): the Cornell box with glass boxes, 82 %: −29 %; with rough plastic
+    /// ones −35 %, rough metal ones −32 %; the bench's spheres with a Lambertian cube added,
+    /// 84 %: −10 % (16 spp); Mitsuba's material preview, a plastic object on a Lambertian
+    /// plane, 75 %: −1 % (16 spp); the textures scene with a plain diffuse floor, 62 %: −1 % (32
+    /// spp); a rough plastic torus under a sky, 0 % (a Lambertian cube out of view): +14 % (16
+    /// spp); the textures scene likewise: +10 % (32 spp).
     pub(super) fn mostly_in_view(&self, scene: &Scene) -> bool {
         const GRID: u32 = 16;
         let camera = &scene.camera;
