@@ -2,7 +2,7 @@
 //! [`DiffuseSurfaces`]: mostly Lambertian surfaces lit by one area light on a mesh, or by
 //! lights none of which is an area light. A lane on a surface of another model takes the step
 //! of [`PathState::step`] on its own, from its path's state in the lanes' arrays and back (the
-//! Cornell box with glass boxes, 64 spp: 27 % less time than the packet path); the other lanes
+//! Cornell box with glass boxes, 64 spp: 29 % less time than the packet path); the other lanes
 //! go on together. Each step of the path loop runs over all lanes together: the
 //! triangles' corners are gathered in one pass, then the arithmetic of the hit point, its
 //! frame, the area light's sample, the BRDF and the throughput runs in loops over the lanes,
@@ -482,10 +482,9 @@ impl DiffuseSurfaces {
     /// point or directional light, or both (see [`LaneLights`]), from the lanes' data in lane
     /// arrays: each lane's light samples as `path` draws them (the delta light's, then the
     /// environment's, a map's direction `env` drawn ahead), their contributions and shadow
-    /// rays, one query of sixteen for each kind
-    /// (a packet where its rays are coherent, as a point light's from nearby points are). Each
-    /// lane adds its visible contributions to its sum in `lit` in the order `path` adds them,
-    /// so its estimate is the same.
+    /// rays, one query of sixteen for each kind (a packet where its rays are coherent, as a
+    /// point light's from nearby points are). Each lane adds its visible contributions to its
+    /// sum in `lit` in the order `path` adds them, so its estimate is the same.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn lights_in_lanes(

@@ -1,9 +1,9 @@
 //! The scenes the batch path integrator ([`crate::integrator`]'s `wide`) renders: meshes and
 //! other shapes, lit by one area light of constant radiance on a mesh and nothing else (Cornell
 //! boxes, interiors), or by lights none of which is an area light (an environment map, point
-//! lights, the sun). The shapes of Lambert's model with a constant or textured albedo (on one
-//! side, or `twosided`) are shaded in lane arrays; those of any other model lane by lane, as
-//! the path integrator shades them.
+//! lights, the sun), and seen mostly on shapes of Lambert's model with a constant or textured
+//! albedo (on one side, or `twosided`), which it shades in lane arrays; it shades those of any
+//! other model lane by lane, as the path integrator shades them.
 
 use super::{Scene, Shape, SurfaceInteraction};
 use crate::light::Light;
