@@ -18,7 +18,6 @@ use crate::ray::Ray;
 use crate::sampler::Sampler;
 use crate::scene::{PacketHits, Scene, ShadowTest, SurfaceInteraction};
 use crate::simd::{for_bits, LANES};
-use glam::Vec2;
 use radiometry::Rgb;
 
 /// Shadow tests waiting to be answered as a packet, with what each adds to its lane if visible.
@@ -261,21 +260,17 @@ fn ready_vertices(
     if !map {
         return;
     }
-    let (mut uc, mut u, mut drawn) = ([0.0; LANES], [Vec2::ZERO; LANES], 0);
+    let mut lit = 0;
     for_bits(modelled, |i| {
         let si = at[i].as_ref().expect("a modelled lane has a hit");
-        if scene.delta_only(si.shape) {
-            return;
-        }
-        if let Some(n) = scene.environment_numbers(paths[i].light_numbers()) {
-            (uc[i], u[i]) = n;
-            drawn |= 1 << i;
+        lit |= (!scene.delta_only(si.shape) as u32) << i;
+    });
+    let env = scene.presample_environment_packet(lit, |i| paths[i].numbers.light);
+    for_bits(lit, |i| {
+        if env[i].is_some() {
+            paths[i].light_numbers().env = env[i];
         }
     });
-    if drawn != 0 {
-        let env = scene.presample_environment_packet(&uc, &u, drawn, scene.simd());
-        for_bits(drawn, |i| paths[i].light_numbers().env = env[i]);
-    }
 }
 
 #[cfg(test)]

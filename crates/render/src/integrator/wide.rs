@@ -361,26 +361,6 @@ fn light_contribution(
     (beta.rgb(i) * f * li * (wil.z.abs() * w / pdf), (wil.z * wol.z > 0.0) & !f.is_black())
 }
 
-/// The environment map's directions for the light numbers of lanes `alive`, drawn as one
-/// packet (None without a map, or where a lane has no numbers for it).
-#[inline(always)]
-fn map_directions(scene: &Scene, numbers: &Numbers, alive: u32) -> [Option<EnvDirection>; N] {
-    if scene.environment_map().is_none() {
-        return [None; N];
-    }
-    let (mut uc, mut u, mut drawn) = ([0.0; N], [Vec2::ZERO; N], 0u32);
-    for i in Bits(alive) {
-        if let Some(n) = scene.environment_numbers(&numbers.light(i, None)) {
-            (uc[i], u[i]) = n;
-            drawn |= 1 << i;
-        }
-    }
-    if drawn == 0 {
-        return [None; N];
-    }
-    scene.presample_environment_packet(&uc, &u, drawn, scene.simd())
-}
-
 /// The step of [`PathState::step`] at the hits `hit` of lanes `lanes` (shapes of models not
 /// shaded in lane arrays), from the lanes' paths as they stand: their rays `(o, d)`, throughputs,
 /// results, index ratios and depths, their previous vertices, their numbers (with the map's
@@ -836,7 +816,7 @@ impl DiffuseSurfaces {
             }
             // The map's directions for the light numbers of the lanes that sample lights.
             let lighting = Bits(generic).fold(alive, |m, i| m & !((scene.delta_only(shape[i]) as u32) << i));
-            let env = map_directions(scene, &numbers, lighting);
+            let env = scene.presample_environment_packet(lighting, |i| numbers.light(i, None));
             // The lanes of other models take `path`'s step, one by one; their shadow tests
             // join the queue.
             step_by_lane(
@@ -875,15 +855,9 @@ impl DiffuseSurfaces {
                     let dist = delta.length();
                     let wi = delta / dist;
                     let sampled = pdf_ok & (lns.dot(-wi) > 0.0) & emits & (dist > 0.0);
-                    let wil = frame.get(i).to_local(wi);
-                    let wol = wo.get(i);
-                    let (wim, wom) = (mirror_if(on_back[i], wil), mirror_if(on_back[i], wol));
-                    let upper = (wim.z > 0.0) & (wom.z > 0.0);
-                    let f = if upper { albedo.rgb(i) * FRAC_1_PI } else { Rgb::ZERO };
-                    let brdf_pdf = if upper { cosine_hemisphere_pdf(wim.z) } else { 0.0 };
-                    let w = power_heuristic(pdf, brdf_pdf);
-                    add.set_rgb(i, beta.rgb(i) * f * le * (wil.z.abs() * w / pdf));
-                    add_ok[i] = sampled & (wil.z * wol.z > 0.0) & !f.is_black();
+                    let (c, seen) = light_contribution(i, (&wo, &frame, &albedo, &beta, &on_back), wi, le, pdf, false);
+                    add.set_rgb(i, c);
+                    add_ok[i] = sampled & seen;
                     // The shadow test of `Scene::shadow_ray`: to the point, short of it; along
                     // the direction when the point is too far for a distance.
                     let (to, _, dist2) = spawn_ray_to(pi, ngi, lp);

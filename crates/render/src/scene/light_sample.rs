@@ -196,27 +196,25 @@ impl Scene {
         }
     }
 
-    /// The numbers (1D, 2D) an environment map's light sample takes from `n`, if the scene
-    /// samples one.
-    #[inline]
-    pub fn environment_numbers(&self, n: &LightNumbers) -> Option<(f32, Vec2)> {
-        self.env_map_numbers(n).map(|(_, u1, u2)| (u1, u2))
-    }
-
-    /// The environment map's directions for the numbers `uc`, `u` (see
-    /// [`environment_numbers`](Self::environment_numbers)) of lanes `lanes`, drawn ahead as
-    /// one packet on instruction set `simd` for light samples weighted by MIS: they depend on
-    /// the numbers alone, and [`sample_lights`](Self::sample_lights) takes them as they are
-    /// from [`LightNumbers::env`]. None without an environment map.
+    /// The environment map's directions for the light numbers `numbers(i)` of lanes `lanes`,
+    /// drawn ahead as one packet for light samples weighted by MIS: they depend on the numbers
+    /// alone, and [`sample_lights`](Self::sample_lights) takes them as they are from
+    /// [`LightNumbers::env`]. None without an environment map, or where a lane's numbers
+    /// sample none.
     pub fn presample_environment_packet(
         &self,
-        uc: &[f32; LANES],
-        u: &[Vec2; LANES],
         lanes: u32,
-        simd: Simd,
+        numbers: impl Fn(usize) -> LightNumbers,
     ) -> [Option<EnvDirection>; LANES] {
-        match self.environment_map() {
-            Some(map) => map.sample_packet(uc, u, lanes, env_density(true), simd),
+        let (mut uc, mut u, mut drawn, mut sampled) = ([0.0; LANES], [Vec2::ZERO; LANES], 0u32, None);
+        for_bits(lanes, |i| {
+            if let Some((map, u1, u2)) = self.env_map_numbers(&numbers(i)) {
+                (uc[i], u[i], sampled) = (u1, u2, Some(map));
+                drawn |= 1 << i;
+            }
+        });
+        match sampled {
+            Some(map) => map.sample_packet(&uc, &u, drawn, env_density(true), self.simd()),
             None => [None; LANES],
         }
     }
