@@ -51,6 +51,12 @@ impl<'a> ShadowQueue<'a> {
         }
     }
 
+    /// Empties it, every lane's sum zero again.
+    pub(super) fn clear(&mut self) {
+        (self.len, self.tested, self.pending) = (0, 0, 0);
+        self.lit = [Rgb::ZERO; LANES];
+    }
+
     /// Queues shadow test `test` of lane `lane`, which adds `c` to its sum if visible (at once
     /// when there is nothing to test).
     pub(super) fn push(&mut self, lane: usize, test: ShadowTest, c: Rgb) {
@@ -88,6 +94,20 @@ impl<'a> ShadowQueue<'a> {
     }
 }
 
+/// The arrays a packet of paths works in, kept from packet to packet of a batch (made afresh
+/// for each packet, they were 6.6 kB written per packet, most of it copies of an idle path).
+struct PacketWork<'a> {
+    queue: ShadowQueue<'a>,
+    paths: [PathState; LANES],
+    at: [Option<SurfaceInteraction>; LANES],
+}
+
+impl<'a> PacketWork<'a> {
+    fn new(scene: &'a Scene) -> Self {
+        PacketWork { queue: ShadowQueue::new(scene), paths: [PathState::IDLE; LANES], at: [None; LANES] }
+    }
+}
+
 impl Integrator {
     /// The estimates along camera rays `rays`, each drawing from its sampler in `samplers`,
     /// written to `out`: for each what [`li`](Self::li) gives. Sixteen at a time through
@@ -103,11 +123,12 @@ impl Integrator {
             }
             return;
         }
+        let mut work = PacketWork::new(scene);
         for ((rays, samplers), out) in rays.chunks(LANES).zip(samplers.chunks(LANES)).zip(out.chunks_mut(LANES)) {
             let n = rays.len();
             let packet: [Ray; LANES] = std::array::from_fn(|i| rays[i.min(n - 1)]);
             let mut lanes: [Sampler; LANES] = std::array::from_fn(|i| samplers[i.min(n - 1)].clone());
-            let l = self.li_packet(scene, &packet, &mut lanes, u32::MAX >> (32 - n));
+            let l = self.li_packet_in(scene, &packet, &mut lanes, u32::MAX >> (32 - n), &mut work);
             out.copy_from_slice(&l[..n]);
         }
     }
@@ -121,6 +142,18 @@ impl Integrator {
         rays: &[Ray; LANES],
         samplers: &mut [Sampler; LANES],
         active: u32,
+    ) -> [Rgb; LANES] {
+        self.li_packet_in(scene, rays, samplers, active, &mut PacketWork::new(scene))
+    }
+
+    /// [`li_packet`](Self::li_packet) in the arrays of `work`.
+    fn li_packet_in<'a>(
+        &self,
+        scene: &'a Scene,
+        rays: &[Ray; LANES],
+        samplers: &mut [Sampler; LANES],
+        active: u32,
+        work: &mut PacketWork<'a>,
     ) -> [Rgb; LANES] {
         let mut out = [Rgb::ZERO; LANES];
         if let Integrator::Phong { shadows } = *self {
@@ -142,12 +175,15 @@ impl Integrator {
         if shown && active & !traced != 0 {
             unlit = scene.environment_packet(rays, active & !traced, scene.simd());
         }
-        let mut queue = ShadowQueue::new(scene);
+        let PacketWork { queue, paths, at } = work;
+        queue.clear();
         match *self {
             Integrator::Path { max_depth, rr_depth, hide_emitters } => {
-                let depths = (max_depth, rr_depth, hide_emitters);
-                let found = trace_together(scene, rays, &hits, traced, samplers, depths, &mut queue);
-                for_bits(traced, |i| unlit[i] = found[i]);
+                if traced != 0 {
+                    let depths = (max_depth, rr_depth, hide_emitters);
+                    trace_together(scene, rays, &hits, traced, samplers, depths, queue, paths, at);
+                    for_bits(traced, |i| unlit[i] = paths[i].result);
+                }
             }
             Integrator::Direct { samples, hide_emitters } => for_bits(traced, |i| {
                 let mut shadow = |test: ShadowTest, c: Rgb| queue.push(i, test, c);
@@ -165,8 +201,10 @@ impl Integrator {
 }
 
 /// The paths from the camera rays `rays` of lanes `lanes`, whose first hits are `hits`, each
-/// drawing from its sampler; `depths` is (max_depth ≥ 1, rr_depth, hide_emitters). Returns
-/// what each finds without shadow rays, its shadow tests waiting in `queue`.
+/// drawing from its sampler; `depths` is (max_depth ≥ 1, rr_depth, hide_emitters). Each lane's
+/// path and vertex are `paths[i]` and `at[i]` (no other lane's are read or written); it ends
+/// with what it found without shadow rays in `paths[i].result`, its shadow tests waiting in
+/// `queue`.
 ///
 /// The paths go vertex by vertex together: each takes its step on its own, then the
 /// directions of the next rays fall on the environment map as one packet, and the map's light
@@ -180,6 +218,7 @@ impl Integrator {
 /// texels its model is built from): the lanes' cache misses overlap rather than each stalling
 /// its own lane.
 /// A path's first numbers are drawn only for rays that hit something.
+#[allow(clippy::too_many_arguments)]
 fn trace_together(
     scene: &Scene,
     rays: &[Ray; LANES],
@@ -188,9 +227,9 @@ fn trace_together(
     samplers: &mut [Sampler; LANES],
     (max_depth, rr_depth, hide_emitters): (u32, u32, bool),
     queue: &mut ShadowQueue,
-) -> [Rgb; LANES] {
-    let mut paths = [PathState::IDLE; LANES];
-    let mut at: [Option<SurfaceInteraction>; LANES] = [None; LANES];
+    paths: &mut [PathState; LANES],
+    at: &mut [Option<SurfaceInteraction>; LANES],
+) {
     for_bits(lanes, |i| {
         paths[i] = PathState::new(rays[i], path::VertexNumbers::draw(&mut samplers[i], scene));
         at[i] = hits[i].map(|(k, t)| scene.interaction(&rays[i], k, t));
@@ -200,7 +239,7 @@ fn trace_together(
         }
     });
     let map = scene.environment_map().is_some();
-    ready_vertices(scene, &mut paths, &at, lanes, max_depth, map);
+    ready_vertices(scene, paths, at, lanes, max_depth, map);
     let mut alive = lanes;
     while alive != 0 {
         let mut next = 0;
@@ -229,9 +268,8 @@ fn trace_together(
         for_bits(alive, |i| hits[i].map_or((), |(k, _)| scene.prefetch_vertices(k)));
         for_bits(alive, |i| paths[i].reached(hits[i].is_some(), &mut samplers[i], scene, max_depth));
         for_bits(alive, |i| at[i] = hits[i].map(|(k, t)| scene.interaction(&paths[i].ray, k, t)));
-        ready_vertices(scene, &mut paths, &at, alive, max_depth, map);
+        ready_vertices(scene, paths, at, alive, max_depth, map);
     }
-    paths.map(|p| p.result)
 }
 
 /// Readies the next vertices `at` of `paths` in lanes `lanes` where a model is built there
