@@ -2,7 +2,7 @@
 //! [`Leaf`] methods so that the whole walk compiles into each instruction set's copy
 //! (`simd::dispatch!`). A pack's triangles are tested at once ([`Tri16`](crate::bvh::Tri16)),
 //! on eight lanes where the pack holds at most eight (two thirds of matpreview's packs; its
-//! any-hit queries 9 % faster, the closest-hit ones 1–2 %), other primitives one by one.
+//! any-hit queries 9 % faster, the closest-hit ones at most 2 %), other primitives one by one.
 
 use super::{Scene, HAS_TRIANGLES};
 use crate::bvh::{Leaf, Ray16, Visit};
