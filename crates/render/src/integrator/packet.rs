@@ -175,18 +175,17 @@ impl Integrator {
         if shown && active & !traced != 0 {
             unlit = scene.environment_packet(rays, active & !traced, scene.simd());
         }
-        let PacketWork { queue, paths, at } = work;
-        queue.clear();
+        work.queue.clear();
         match *self {
             Integrator::Path { max_depth, rr_depth, hide_emitters } => {
                 if traced != 0 {
                     let depths = (max_depth, rr_depth, hide_emitters);
-                    trace_together(scene, rays, &hits, traced, samplers, depths, queue, paths, at);
-                    for_bits(traced, |i| unlit[i] = paths[i].result);
+                    trace_together(scene, rays, &hits, traced, samplers, depths, work);
+                    for_bits(traced, |i| unlit[i] = work.paths[i].result);
                 }
             }
             Integrator::Direct { samples, hide_emitters } => for_bits(traced, |i| {
-                let mut shadow = |test: ShadowTest, c: Rgb| queue.push(i, test, c);
+                let mut shadow = |test: ShadowTest, c: Rgb| work.queue.push(i, test, c);
                 let hit = hits[i].map(|(k, t)| scene.interaction(&rays[i], k, t));
                 let first = path::past_hidden(scene, rays[i], hit, hide_emitters);
                 unlit[i] =
@@ -194,17 +193,17 @@ impl Integrator {
             }),
             Integrator::Phong { .. } => unreachable!("answered above"),
         }
-        queue.flush();
-        for_bits(active, |i| out[i] = finite(unlit[i] + queue.lit[i]));
+        work.queue.flush();
+        for_bits(active, |i| out[i] = finite(unlit[i] + work.queue.lit[i]));
         out
     }
 }
 
 /// The paths from the camera rays `rays` of lanes `lanes`, whose first hits are `hits`, each
 /// drawing from its sampler; `depths` is (max_depth ≥ 1, rr_depth, hide_emitters). Each lane's
-/// path and vertex are `paths[i]` and `at[i]` (no other lane's are read or written); it ends
-/// with what it found without shadow rays in `paths[i].result`, its shadow tests waiting in
-/// `queue`.
+/// path and vertex are `work.paths[i]` and `work.at[i]` (no other lane's are read or written);
+/// it ends with what it found without shadow rays in `work.paths[i].result`, its shadow tests
+/// waiting in `work.queue`.
 ///
 /// The paths go vertex by vertex together: each takes its step on its own, then the
 /// directions of the next rays fall on the environment map as one packet, and the map's light
@@ -218,7 +217,6 @@ impl Integrator {
 /// texels its model is built from): the lanes' cache misses overlap rather than each stalling
 /// its own lane.
 /// A path's first numbers are drawn only for rays that hit something.
-#[allow(clippy::too_many_arguments)]
 fn trace_together(
     scene: &Scene,
     rays: &[Ray; LANES],
@@ -226,10 +224,9 @@ fn trace_together(
     lanes: u32,
     samplers: &mut [Sampler; LANES],
     (max_depth, rr_depth, hide_emitters): (u32, u32, bool),
-    queue: &mut ShadowQueue,
-    paths: &mut [PathState; LANES],
-    at: &mut [Option<SurfaceInteraction>; LANES],
+    work: &mut PacketWork,
 ) {
+    let PacketWork { queue, paths, at } = work;
     for_bits(lanes, |i| {
         paths[i] = PathState::new(rays[i], path::VertexNumbers::draw(&mut samplers[i], scene));
         at[i] = hits[i].map(|(k, t)| scene.interaction(&rays[i], k, t));

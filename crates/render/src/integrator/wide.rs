@@ -1042,7 +1042,6 @@ mod tests {
             .unwrap();
         let metal = cube(|p| p * 0.15 + Vec3::new(0.05, 0.1, -0.7), false);
         b.shape_with_model(Geometry::Mesh(metal), "ggx", &[("alpha", "0.3")]).unwrap();
-        let sides = |a| Box::new(Material::Fixed(lambert(a)));
         let nested = Box::new(Material::TwoSided(sides([0.8, 0.8, 0.2]), sides([0.3, 0.3, 0.9])));
         let mask = Material::Mask { opacity: Texture::Constant(Rgb::splat(0.6)), nested };
         b.shape(Shape::new(Geometry::Sphere(Sphere::new(Vec3::new(0.55, -0.1, -0.5), 0.2)), mask));
